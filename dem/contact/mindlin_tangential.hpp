@@ -1,0 +1,52 @@
+#pragma once
+// Tangential part: Mindlin's no-slip spring S_t = 8 G* sqrt(R* delta) on the
+// accumulated tangential displacement, damped like the normal direction, and
+// bounded by Coulomb's law |F_t| <= mu_s F_n. While sliding, the spring is
+// shortened to sit on the Coulomb limit and the damper is idle (as in LIGGGHTS),
+// so the friction force equals mu_s F_n exactly.
+
+#include "dem/contact/contact_state.hpp"
+#include "dem/contact/hertz_normal.hpp"
+#include "dem/contact/pair_coefficients.hpp"
+
+#include <cmath>
+
+namespace demcal::dem {
+
+struct MindlinTangential {
+  static constexpr const char* kName = "mindlin";
+
+  void apply(const ContactKinematics& k, const PairCoefficients& c, ContactHistory& h,
+             ContactForce& f) const {
+    Vec3 xi = rotate_into_tangent_plane(h.tangential_displacement_m, k.normal);
+    xi += k.tangential_velocity_m_s * k.dt_s;
+    const double stiffness = 8.0 * c.shear_modulus_eff_pa * std::sqrt(k.radius_eff_m * k.overlap_m);
+    const Vec3 spring = -stiffness * xi;
+    const double limit = c.sliding_friction * f.friction_load_n;
+    const double spring2 = norm2(spring);
+    if (spring2 > limit * limit) {
+      const double ratio = spring2 > 0.0 ? limit / std::sqrt(spring2) : 0.0;
+      xi *= ratio;
+      f.tangential_force_n = spring * ratio;
+    } else {
+      const double damping =
+          HertzNormal::kDampingScale * c.damping_beta * std::sqrt(stiffness * k.mass_eff_kg);
+      Vec3 ft = spring - damping * k.tangential_velocity_m_s;
+      // The damper must not push the force past the Coulomb limit either.
+      const double ft2 = norm2(ft);
+      if (ft2 > limit * limit) ft *= limit / std::sqrt(ft2);
+      f.tangential_force_n = ft;
+      f.elastic_energy_j += 0.5 * stiffness * norm2(xi);
+    }
+    h.tangential_displacement_m = xi;
+  }
+};
+
+// Frictionless contacts (for checks and idealised granular gases).
+struct NoTangential {
+  static constexpr const char* kName = "none";
+  void apply(const ContactKinematics&, const PairCoefficients&, ContactHistory&,
+             ContactForce&) const {}
+};
+
+}  // namespace demcal::dem

@@ -1,0 +1,179 @@
+#include "dem/neighbor_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace demcal::dem {
+namespace {
+
+constexpr const char* kAxis[3] = {"x", "y", "z"};
+
+int shift_code(int ox, int oy, int oz) { return (ox + 1) + 3 * (oy + 1) + 9 * (oz + 1); }
+
+}  // namespace
+
+void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>& radius,
+                         const Domain& domain, double skin_m) {
+  const std::size_t n = pos.size();
+  skin_m_ = skin_m;
+  ++builds_;
+
+  double r_max = 0.0;
+  for (double r : radius) r_max = std::max(r_max, r);
+  const double cutoff = 2.0 * r_max + skin_m;
+  const Vec3 length = domain.length_m();
+
+  std::array<int, 3> nc{};
+  std::array<double, 3> inv_cell{};
+  std::size_t total_cells = 1;
+  for (int k = 0; k < 3; ++k) {
+    if (domain.periodic[k] && length[k] < 2.0 * cutoff) {
+      std::ostringstream msg;
+      msg << "periodic length along " << kAxis[k] << " (" << length[k]
+          << " m) must be at least twice the neighbour cut-off (" << 2.0 * cutoff
+          << " m = 2 x (largest diameter + skin)); make the periodic slab thicker";
+      throw std::runtime_error(msg.str());
+    }
+    nc[k] = std::max(1, static_cast<int>(std::floor(length[k] / std::max(cutoff, 1e-300))));
+    // Bound the cell count in sparse boxes: memory should follow particles, not volume.
+    nc[k] = std::min(nc[k], 1 << 10);
+    total_cells *= static_cast<std::size_t>(nc[k]);
+  }
+  while (total_cells > 8 * n + 4096) {
+    for (int k = 0; k < 3; ++k) nc[k] = std::max(1, nc[k] / 2);
+    total_cells = static_cast<std::size_t>(nc[0]) * nc[1] * nc[2];
+  }
+  for (int k = 0; k < 3; ++k) inv_cell[k] = nc[k] / length[k];
+  for (int oz = -1; oz <= 1; ++oz)
+    for (int oy = -1; oy <= 1; ++oy)
+      for (int ox = -1; ox <= 1; ++ox)
+        shift_table_[shift_code(ox, oy, oz)] =
+            Vec3{ox * length.x, oy * length.y, oz * length.z};
+
+  // Counting sort of particles into cells (serial: O(n), negligible).
+  cell_of_.resize(n);
+  cell_start_.assign(total_cells + 1, 0);
+  std::vector<std::array<int, 3>> coord(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<int, 3> c{};
+    for (int k = 0; k < 3; ++k) {
+      int ck = static_cast<int>(std::floor((pos[i][k] - domain.lower_m[k]) * inv_cell[k]));
+      c[k] = std::clamp(ck, 0, nc[k] - 1);
+    }
+    coord[i] = c;
+    cell_of_[i] = static_cast<std::uint32_t>(c[0] + nc[0] * (c[1] + nc[1] * c[2]));
+    ++cell_start_[cell_of_[i] + 1];
+  }
+  for (std::size_t c = 0; c < total_cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_particles_.resize(n);
+  {
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) cell_particles_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  // Visits the candidate neighbours j > i of particle i with their image code.
+  auto for_each_neighbor = [&](std::size_t i, auto&& visit) {
+    const auto& c = coord[i];
+    for (int oz = -1; oz <= 1; ++oz) {
+      for (int oy = -1; oy <= 1; ++oy) {
+        for (int ox = -1; ox <= 1; ++ox) {
+          const int o[3] = {ox, oy, oz};
+          int cc[3];
+          int img[3] = {0, 0, 0};
+          bool valid = true;
+          for (int k = 0; k < 3 && valid; ++k) {
+            cc[k] = c[k] + o[k];
+            if (cc[k] < 0) {
+              if (!domain.periodic[k]) valid = false;
+              cc[k] += nc[k];
+              img[k] = -1;
+            } else if (cc[k] >= nc[k]) {
+              if (!domain.periodic[k]) valid = false;
+              cc[k] -= nc[k];
+              img[k] = 1;
+            }
+          }
+          if (!valid) continue;
+          // With a single cell along a periodic axis, offsets -1, 0, +1 reach the
+          // same cell through different images; all three are distinct shifts.
+          const std::size_t cell = cc[0] + nc[0] * (cc[1] + static_cast<std::size_t>(nc[1]) * cc[2]);
+          const int code = shift_code(img[0], img[1], img[2]);
+          const Vec3& s = shift_table_[code];
+          for (std::uint32_t q = cell_start_[cell]; q < cell_start_[cell + 1]; ++q) {
+            const std::uint32_t j = cell_particles_[q];
+            if (j <= i) continue;
+            const Vec3 d = pos[i] - (pos[j] + s);
+            const double reach = radius[i] + radius[j] + skin_m;
+            if (norm2(d) < reach * reach) visit(j, code);
+          }
+        }
+      }
+    }
+  };
+
+  count_.assign(n + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t cnt = 0;
+    for_each_neighbor(i, [&](std::uint32_t, int) { ++cnt; });
+    count_[i + 1] = cnt;
+  }
+  std::vector<std::uint32_t> first(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] = first[i] + count_[i + 1];
+  const std::size_t pairs = first[n];
+
+  std::vector<std::uint32_t> partner(pairs);
+  std::vector<std::uint8_t> codes(pairs);
+  std::vector<ContactHistory> history(pairs);
+  std::vector<std::uint8_t> touching(pairs, 0);
+  const std::size_t old_n = first_.empty() ? 0 : first_.size() - 1;
+
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t p = first[i];
+    for_each_neighbor(i, [&](std::uint32_t j, int code) {
+      partner[p] = j;
+      codes[p] = static_cast<std::uint8_t>(code);
+      // Carry the history of a pair that was already touching. Pairs are matched
+      // by partner alone: with the slab at least two cut-offs thick a pair meets
+      // through one image only, and that image changes when a particle is wrapped.
+      if (i < old_n) {
+        for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
+          if (partner_[q] == j) {
+            if (touching_[q]) {
+              history[p] = history_[q];
+              touching[p] = 1;
+            }
+            break;
+          }
+        }
+      }
+      ++p;
+    });
+  }
+
+  first_ = std::move(first);
+  partner_ = std::move(partner);
+  shift_code_ = std::move(codes);
+  history_ = std::move(history);
+  touching_ = std::move(touching);
+  position_at_build_ = pos;
+}
+
+double NeighborList::max_displacement_m(const std::vector<Vec3>& pos) const {
+  if (pos.size() != position_at_build_.size()) return std::numeric_limits<double>::infinity();
+  double max2 = 0.0;
+  const std::size_t n = pos.size();
+#pragma omp parallel for schedule(static) reduction(max : max2)
+  for (std::size_t i = 0; i < n; ++i) max2 = std::max(max2, norm2(pos[i] - position_at_build_[i]));
+  return std::sqrt(max2);
+}
+
+bool NeighborList::needs_rebuild(const std::vector<Vec3>& pos) const {
+  return max_displacement_m(pos) > 0.5 * skin_m_;
+}
+
+}  // namespace demcal::dem

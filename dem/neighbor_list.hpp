@@ -1,0 +1,60 @@
+#pragma once
+// Verlet list built from linked cells. Holds every pair (i < j) whose surfaces
+// are closer than `skin`, with the periodic image to use for j, and carries the
+// contact history (tangential spring, rolling spring) of pairs that stay in the
+// list across rebuilds. The list stays valid until some particle has moved
+// more than skin/2 since the build. The cell size is the largest diameter plus
+// the skin, so any pair of sizes is found (polydisperse beds of any ratio; a
+// wide ratio only costs extra distance checks).
+
+#include "dem/contact/contact_state.hpp"
+#include "dem/domain.hpp"
+#include "dem/vec3.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace demcal::dem {
+
+class NeighborList {
+ public:
+  // Positions must lie inside the box along periodic axes (wrap them first).
+  // Throws std::runtime_error when a periodic axis is shorter than twice the
+  // cut-off (a particle would meet two images of the same neighbour).
+  void build(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
+             const Domain& domain, double skin_m);
+
+  // True when some particle has moved more than half the skin since the build.
+  bool needs_rebuild(const std::vector<Vec3>& position_m) const;
+  double max_displacement_m(const std::vector<Vec3>& position_m) const;
+
+  std::size_t pair_count() const { return partner_.size(); }
+  std::size_t build_count() const { return builds_; }
+
+  // Pairs of particle i: indices first(i) .. first(i+1).
+  std::uint32_t first(std::size_t i) const { return first_[i]; }
+  std::uint32_t partner(std::size_t p) const { return partner_[p]; }
+  const Vec3& image_shift(std::size_t p) const { return shift_table_[shift_code_[p]]; }
+  ContactHistory& history(std::size_t p) { return history_[p]; }
+  std::uint8_t& touching(std::size_t p) { return touching_[p]; }
+
+ private:
+  std::vector<std::uint32_t> first_;
+  std::vector<std::uint32_t> partner_;
+  std::vector<std::uint8_t> shift_code_;
+  std::vector<ContactHistory> history_;
+  std::vector<std::uint8_t> touching_;
+  std::array<Vec3, 27> shift_table_{};
+  std::vector<Vec3> position_at_build_;
+  double skin_m_ = 0.0;
+  std::size_t builds_ = 0;
+
+  // Scratch reused between builds.
+  std::vector<std::uint32_t> cell_start_;
+  std::vector<std::uint32_t> cell_particles_;
+  std::vector<std::uint32_t> cell_of_;
+  std::vector<std::uint32_t> count_;
+};
+
+}  // namespace demcal::dem

@@ -1,0 +1,97 @@
+#include "dem/wall/cylinder_wall.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace demcal::dem {
+
+namespace {
+
+constexpr int kSegments = 48;
+// A literal, so walls built during static initialization can still throw.
+constexpr char kWhere[] = "cylinder wall";
+
+[[noreturn]] void fail(const std::string& what) {
+  throw std::invalid_argument(std::string(kWhere) + ": " + what);
+}
+
+Vec3 checked_point(const Vec3& p, const char* param) {
+  if (!is_finite(p)) fail(std::string(param) + " must be finite");
+  return p;
+}
+
+Vec3 checked_unit(const Vec3& v, const char* param) {
+  if (!is_finite(v) || !(norm2(v) > 0.0)) {
+    std::ostringstream msg;
+    msg << param << " must be a non-zero finite vector (got [" << v.x << ", " << v.y << ", "
+        << v.z << "])";
+    fail(msg.str());
+  }
+  return normalized(v);
+}
+
+double checked_positive(double x, const char* param) {
+  if (!(x > 0.0) || !std::isfinite(x)) {
+    std::ostringstream msg;
+    msg << param << " must be > 0 (got " << x << ")";
+    fail(msg.str());
+  }
+  return x;
+}
+
+}  // namespace
+
+CylinderWall::CylinderWall(const Vec3& base_m, const Vec3& axis, double length_m, double radius_m)
+    : base_m_(checked_point(base_m, "base_m")),
+      axis_(checked_unit(axis, "axis")),
+      length_m_(checked_positive(length_m, "length_m")),
+      radius_m_(checked_positive(radius_m, "radius_m")) {}
+
+bool CylinderWall::nearest_point(const Vec3& centre, double range_m, double t,
+                                 WallContactPoint& out) const {
+  const Vec3 shift = motion_.displacement_m(t);
+  const Vec3 c = centre - shift;
+  const Vec3 r = c - base_m_;
+  const double s = dot(r, axis_);
+  const Vec3 radial = r - s * axis_;
+  const double rho = norm(radial);
+  const double tiny = 1e-12 * std::max(length_m_, radius_m_);
+  // On the axis every rim direction is equally near; any fixed choice keeps
+  // the result reproducible.
+  const Vec3 e = rho > tiny ? radial / rho : any_perpendicular(axis_);
+  const Vec3 q = base_m_ + std::clamp(s, 0.0, length_m_) * axis_ + radius_m_ * e;
+
+  const Vec3 diff = c - q;
+  const double distance = norm(diff);
+  if (!(distance < range_m)) return false;
+  out.point_m = q + shift;
+  out.normal = distance > tiny ? diff / distance : e;
+  out.distance_m = distance;
+  return true;
+}
+
+SurfaceMesh CylinderWall::mesh(double t, const Vec3& /*lo*/, const Vec3& /*hi*/) const {
+  const Vec3 base = base_m_ + motion_.displacement_m(t);
+  const Vec3 top = base + length_m_ * axis_;
+  const Vec3 u = any_perpendicular(axis_);
+  const Vec3 v = cross(axis_, u);
+  SurfaceMesh mesh;
+  for (int k = 0; k < kSegments; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / kSegments;
+    const Vec3 e = radius_m_ * (std::cos(phi) * u + std::sin(phi) * v);
+    mesh.points.push_back(base + e);  // index 2k
+    mesh.points.push_back(top + e);   // index 2k + 1
+  }
+  for (int k = 0; k < kSegments; ++k) {
+    const int next = (k + 1) % kSegments;
+    mesh.polygons.push_back({2 * k, 2 * next, 2 * next + 1, 2 * k + 1});
+  }
+  return mesh;
+}
+
+Vec3 CylinderWall::reference_point(double t) const { return base_m_ + motion_.displacement_m(t); }
+
+}  // namespace demcal::dem
