@@ -16,9 +16,10 @@ int shift_code(int ox, int oy, int oz) { return (ox + 1) + 3 * (oy + 1) + 9 * (o
 }  // namespace
 
 void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>& radius,
-                         const Domain& domain, double skin_m) {
+                         const Domain& domain, double skin_m, int threads) {
   const std::size_t n = pos.size();
   skin_m_ = skin_m;
+  threads_ = threads;
   ++builds_;
 
   double r_max = 0.0;
@@ -115,7 +116,7 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   };
 
   count_.assign(n + 1, 0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t cnt = 0;
     for_each_neighbor(i, [&](std::uint32_t, int) { ++cnt; });
@@ -131,7 +132,7 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   std::vector<std::uint8_t> touching(pairs, 0);
   const std::size_t old_n = first_.empty() ? 0 : first_.size() - 1;
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t p = first[i];
     for_each_neighbor(i, [&](std::uint32_t j, int code) {
@@ -167,7 +168,7 @@ double NeighborList::max_displacement_m(const std::vector<Vec3>& pos) const {
   if (pos.size() != position_at_build_.size()) return std::numeric_limits<double>::infinity();
   double max2 = 0.0;
   const std::size_t n = pos.size();
-#pragma omp parallel for schedule(static) reduction(max : max2)
+#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : max2)
   for (std::size_t i = 0; i < n; ++i) max2 = std::max(max2, norm2(pos[i] - position_at_build_[i]));
   return std::sqrt(max2);
 }

@@ -23,7 +23,7 @@ class NeighborList {
   // Throws std::runtime_error when a periodic axis is shorter than twice the
   // cut-off (a particle would meet two images of the same neighbour).
   void build(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
-             const Domain& domain, double skin_m);
+             const Domain& domain, double skin_m, int threads = 1);
 
   // True when some particle has moved more than half the skin since the build.
   bool needs_rebuild(const std::vector<Vec3>& position_m) const;
@@ -48,6 +48,7 @@ class NeighborList {
   std::array<Vec3, 27> shift_table_{};
   std::vector<Vec3> position_at_build_;
   double skin_m_ = 0.0;
+  int threads_ = 1;
   std::size_t builds_ = 0;
 
   // Scratch reused between builds.

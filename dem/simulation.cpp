@@ -192,7 +192,7 @@ void Simulation::rebuild_neighbors() {
     if (!dom.periodic[k]) continue;
     for (auto& p : x) p[k] -= len[k] * std::floor((p[k] - dom.lower_m[k]) / len[k]);
   }
-  neighbors_.build(x, particles_.radius_m, dom, skin_m_);
+  neighbors_.build(x, particles_.radius_m, dom, skin_m_, options_.threads);
 
   // Wall candidates: particles within skin of each wall; history follows the particle.
   wall_offset_at_build_.resize(walls_.size());
@@ -319,7 +319,8 @@ void Simulation::check_stability() const {
         << "] m. A wall is missing or was passed through. ";
   }
   msg << "The time step is " << dt_
-      << " s; a smaller time_step_fraction_of_rayleigh or a stiffer check of the walls may help.";
+      << " s; if the contacts are under-resolved, lower time_step_fraction_of_rayleigh (or "
+         "time_step_s); if a particle escaped, check that the walls close the box.";
   throw InstabilityError(msg.str());
 }
 

@@ -36,7 +36,10 @@ double restitution_for_damping_beta(double beta) {
       // The force vanishes at x = 0, so the speed there is the speed at xn to RK4 accuracy.
       return -vn;
     }
-    if (vn >= 0.0 && xn > 0.0 && v < 0.0) return 0.0;  // came to rest in contact
+    // Once the damper outweighs the spring on the way out, the total force is
+    // clamped to zero and stays so (the damping term decays more slowly with x
+    // than the elastic one): the sphere leaves at its present speed.
+    if (vn < 0.0 && acceleration(xn, vn, eta) == 0.0) return -vn;
     x = xn;
     v = vn;
   }

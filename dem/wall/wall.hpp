@@ -24,7 +24,7 @@ struct WallMotion {
   bool moves() const { return norm2(velocity_m_s) > 0.0; }
 };
 
-// A triangle mesh approximating a wall's surface, for VTK snapshots.
+// A polygon mesh (convex polygons of any vertex count) approximating a wall's surface, for VTK snapshots.
 struct SurfaceMesh {
   std::vector<Vec3> points;
   std::vector<std::vector<int>> polygons;  // indices into points
