@@ -96,6 +96,10 @@ class Simulation {
   const Particles& particles() const { return particles_; }
   Particles& mutable_particles() { return particles_; }
   const std::vector<std::unique_ptr<Wall>>& walls() const { return walls_; }
+  // For protocols that change a wall during the run (opening an orifice when
+  // the fill has settled); call geometry_changed() afterwards.
+  Wall& mutable_wall(std::size_t index) { return *walls_.at(index); }
+  void geometry_changed() { rebuild_requested_ = true; }
   const std::vector<WallLoad>& wall_loads() const { return wall_loads_; }
   const std::vector<std::unique_ptr<Inserter>>& inserters() const { return inserters_; }
   bool insertion_finished() const;

@@ -257,4 +257,10 @@ std::vector<double> OrificePlateWall::change_times_s() const {
   return {open_time_s_};
 }
 
+void OrificePlateWall::set_open_time(double open_time_s) {
+  if (std::isnan(open_time_s))
+    throw std::invalid_argument("orifice plate wall: open_time_s must not be NaN");
+  open_time_s_ = open_time_s;
+}
+
 }  // namespace demcal::dem

@@ -41,6 +41,9 @@ class OrificePlateWall final : public Wall {
   std::vector<double> change_times_s() const override;
 
   bool is_open(double t) const { return t >= open_time_s_; }
+  // Opens (or re-schedules) the orifice; a protocol opens it once the fill is
+  // at rest, a time not known when the plate is built.
+  void set_open_time(double open_time_s);
   OrificeShape shape() const { return shape_; }
   double opening_m() const { return opening_m_; }
   double open_time_s() const { return open_time_s_; }

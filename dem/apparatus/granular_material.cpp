@@ -1,0 +1,64 @@
+#include "dem/apparatus/granular_material.hpp"
+
+#include "dem/simulation.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace demcal::dem {
+namespace {
+
+class ScaledSizes final : public SizeDistribution {
+ public:
+  ScaledSizes(std::shared_ptr<const SizeDistribution> base, double factor)
+      : base_(std::move(base)), factor_(factor) {}
+  double sample_diameter_m(Random& rng) const override {
+    return factor_ * base_->sample_diameter_m(rng);
+  }
+  double min_diameter_m() const override { return factor_ * base_->min_diameter_m(); }
+  double max_diameter_m() const override { return factor_ * base_->max_diameter_m(); }
+  double mean_diameter_cubed_m3() const override {
+    return factor_ * factor_ * factor_ * base_->mean_diameter_cubed_m3();
+  }
+  std::string describe() const override {
+    if (factor_ == 1.0) return base_->describe();
+    std::ostringstream s;
+    s << base_->describe() << " x " << factor_ << " (coarse-grained)";
+    return s.str();
+  }
+
+ private:
+  std::shared_ptr<const SizeDistribution> base_;
+  double factor_;
+};
+
+}  // namespace
+
+std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistribution> base,
+                                               double factor) {
+  if (!base) throw std::invalid_argument("scaled_sizes: no size distribution");
+  if (!(factor > 0.0) || !std::isfinite(factor))
+    throw std::invalid_argument("coarse_graining_factor must be a positive number");
+  return std::make_unique<ScaledSizes>(std::move(base), factor);
+}
+
+double mean_diameter_m(const SizeDistribution& sizes) {
+  return std::cbrt(sizes.mean_diameter_cubed_m3());
+}
+
+std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& m,
+                                      const ModelReduction& reduction) {
+  Material particle = m.particle;
+  if (reduction.shear_modulus_pa > 0.0) {
+    particle.shear_modulus_pa = reduction.shear_modulus_pa;
+    particle.youngs_modulus_pa = 0.0;
+  }
+  const int p = sim.add_material(particle);
+  const int w = sim.add_material(m.wall);
+  sim.set_interaction(p, p, m.particle_particle);
+  sim.set_interaction(p, w, m.particle_wall);
+  return {p, w};
+}
+
+}  // namespace demcal::dem

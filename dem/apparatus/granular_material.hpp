@@ -1,0 +1,52 @@
+#pragma once
+// The granular material an apparatus is filled with, and the wall material it
+// is built of: what a study calibrates. Sizes are drawn by number.
+
+#include "dem/contact/contact_law.hpp"
+#include "dem/contact/pair_coefficients.hpp"
+#include "dem/material.hpp"
+#include "dem/size_distribution.hpp"
+
+#include <memory>
+
+namespace demcal::dem {
+
+class Simulation;
+
+struct GranularMaterial {
+  Material particle;
+  Material wall;
+  InteractionParameters particle_particle;
+  InteractionParameters particle_wall;
+  ContactLawSpec contact;
+  std::shared_ptr<const SizeDistribution> sizes;
+  RestitutionModel restitution_model = RestitutionModel::kExact;
+};
+
+// The model reductions a design of experiments can afford, each a stated
+// approximation (justified per study):
+//  - a periodic slice instead of the whole apparatus (Derakhshani et al.: with
+//    periodic boundaries the pile in the median plane stops feeling the
+//    thickness at 4 particle diameters);
+//  - coarse graining: every particle scaled by a factor, geometry kept;
+//  - a reduced shear modulus (AoR does not change once G is above ~1e7 Pa).
+struct ModelReduction {
+  bool slice = false;
+  double slice_thickness_diameters = 4.0;
+  double coarse_graining_factor = 1.0;
+  double shear_modulus_pa = 0.0;  // 0: keep the material's modulus
+};
+
+// A size distribution scaled by a factor, sharing the original.
+std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistribution> base,
+                                               double factor);
+
+// Volume-equivalent mean diameter, (mean d^3)^(1/3): the "d" in "4 d" and in Beverloo's law.
+double mean_diameter_m(const SizeDistribution& sizes);
+
+// Adds both materials and both interactions, with the reduction's modulus;
+// returns {particle material index, wall material index}.
+std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& material,
+                                      const ModelReduction& reduction);
+
+}  // namespace demcal::dem

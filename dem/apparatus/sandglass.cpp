@@ -1,0 +1,292 @@
+#include "dem/apparatus/sandglass.hpp"
+
+#include "dem/insertion/inserter.hpp"
+#include "dem/measure/angle_of_repose.hpp"
+#include "dem/measure/discharge.hpp"
+#include "dem/wall/bounded_plane_wall.hpp"
+#include "dem/wall/cone_wall.hpp"
+#include "dem/wall/cylinder_wall.hpp"
+#include "dem/wall/orifice_plate_wall.hpp"
+#include "dem/wall/plane_wall.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace demcal::dem {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+// Solid fraction a jittered lattice fill reaches; the capacity check uses it.
+constexpr double kLatticeSolidFraction = 0.40;
+
+void require_positive(double v, const char* name) {
+  if (!(v > 0.0) || !std::isfinite(v)) {
+    std::ostringstream s;
+    s << "sandglass: " << name << " must be a positive length in metres (got " << v << ")";
+    throw std::invalid_argument(s.str());
+  }
+}
+
+// A wall between two points of the xz-plane, spanning the slab in y.
+std::unique_ptr<Wall> slab_segment(double x0, double z0, double x1, double z1, double depth) {
+  const double len = std::hypot(x1 - x0, z1 - z0);
+  const Vec3 u{(x1 - x0) / len, 0.0, (z1 - z0) / len};
+  const Vec3 n{-u.z, 0.0, u.x};  // so that v = n x u is +y
+  return std::make_unique<RectangleWall>(Vec3{0.5 * (x0 + x1), 0.5 * depth, 0.5 * (z0 + z1)}, n,
+                                         u, 0.5 * len, depth);
+}
+
+}  // namespace
+
+void SandglassOptions::validate() const {
+  require_positive(upper_diameter_m, "upper_diameter_m");
+  require_positive(upper_height_m, "upper_height_m");
+  require_positive(orifice_diameter_m, "orifice_diameter_m");
+  require_positive(fill_mass_kg, "fill_mass_kg");
+  require_positive(lower_diameter_m, "lower_diameter_m");
+  require_positive(drop_height_m, "drop_height_m");
+  if (bottom != "flat" && bottom != "conical")
+    throw std::invalid_argument("sandglass: bottom must be \"flat\" or \"conical\", not \"" +
+                                bottom + "\"");
+  if (!(hopper_half_angle_deg > 0.0 && hopper_half_angle_deg < 80.0))
+    throw std::invalid_argument(
+        "sandglass: hopper_half_angle_deg must lie in (0, 80) degrees from the vertical");
+  if (orifice_diameter_m >= upper_diameter_m)
+    throw std::invalid_argument("sandglass: orifice_diameter_m must be smaller than upper_diameter_m");
+  if (lower_diameter_m < upper_diameter_m)
+    throw std::invalid_argument(
+        "sandglass: lower_diameter_m must be at least upper_diameter_m (the lower chamber "
+        "surrounds the upper one's outlet)");
+  if (reduction.slice && !(reduction.slice_thickness_diameters >= 2.0))
+    throw std::invalid_argument("sandglass: slice_thickness_diameters must be >= 2");
+}
+
+Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& material,
+                     const RunProtocol& protocol)
+    : o_(options), protocol_(protocol) {
+  o_.validate();
+  if (!material.sizes) throw std::invalid_argument("sandglass: the material has no size distribution");
+  auto sizes = scaled_sizes(material.sizes, o_.reduction.coarse_graining_factor);
+  diameter_m_ = mean_diameter_m(*sizes);
+  const double d_max = sizes->max_diameter_m();
+  const bool slice = o_.reduction.slice;
+  const double ru = 0.5 * o_.upper_diameter_m;
+  const double rl = 0.5 * o_.lower_diameter_m;
+  const double r0 = 0.5 * o_.orifice_diameter_m;
+  const double zo = o_.drop_height_m;
+  cone_height_m_ =
+      o_.bottom == "conical" ? (ru - r0) / std::tan(o_.hopper_half_angle_deg * kPi / 180.0) : 0.0;
+  top_m_ = zo + cone_height_m_ + o_.upper_height_m;
+  depth_m_ = slice ? o_.reduction.slice_thickness_diameters * diameter_m_ : 0.0;
+  fill_mass_kg_ = slice ? o_.fill_mass_kg * depth_m_ / o_.upper_diameter_m : o_.fill_mass_kg;
+
+  if (o_.orifice_diameter_m < 3.0 * diameter_m_) {
+    std::ostringstream s;
+    s << "sandglass: orifice_diameter_m (" << o_.orifice_diameter_m
+      << " m) is below 3 particle diameters (" << 3.0 * diameter_m_
+      << " m); the flow would arch at once. Widen it or reduce coarse_graining_factor";
+    throw std::invalid_argument(s.str());
+  }
+
+  // The fill goes into the cylindrical part; check it can hold it loosely packed.
+  const double margin = d_max;
+  const double fill_height = o_.upper_height_m - 2.0 * margin;
+  const double fill_volume = slice ? (2.0 * (ru - margin)) * depth_m_ * fill_height
+                                   : kPi * (ru - margin) * (ru - margin) * fill_height;
+  const double capacity_kg = kLatticeSolidFraction * material.particle.density_kg_m3 * fill_volume;
+  if (fill_height <= 0.0 || fill_mass_kg_ > capacity_kg) {
+    std::ostringstream s;
+    s << "sandglass: the upper chamber cannot hold the fill: fill_mass_kg = " << o_.fill_mass_kg
+      << " kg" << (slice ? " (the slice's share " + std::to_string(fill_mass_kg_) + " kg)" : "")
+      << " needs more than its cylindrical part holds when poured loosely (about " << capacity_kg
+      << " kg); raise upper_height_m or upper_diameter_m, or lower fill_mass_kg";
+    throw std::invalid_argument(s.str());
+  }
+
+  const double m = 3.0 * d_max;
+  const Vec3 lo = slice ? Vec3{-rl - m, 0.0, -m} : Vec3{-rl - m, -rl - m, -m};
+  const Vec3 hi = slice ? Vec3{rl + m, depth_m_, top_m_ + m} : Vec3{rl + m, rl + m, top_m_ + m};
+  sim_ = std::make_unique<Simulation>(
+      protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
+  const auto [p, w] = install_materials(*sim_, material, o_.reduction);
+
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), w);
+  const double never = std::numeric_limits<double>::infinity();
+  if (slice) {
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rl, 0, 0}, Vec3{1, 0, 0}), w);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rl, 0, 0}, Vec3{-1, 0, 0}), w);
+    orifice_wall_ = sim_->add_wall(
+        std::make_unique<OrificePlateWall>(OrificePlateWall::slot(
+            Vec3{0, 0.5 * depth_m_, zo}, Vec3{0, 0, 1}, Vec3{1, 0, 0}, o_.orifice_diameter_m, never)),
+        w);
+    if (cone_height_m_ > 0.0) {
+      sim_->add_wall(slab_segment(-r0, zo, -ru, zo + cone_height_m_, depth_m_), w);
+      sim_->add_wall(slab_segment(r0, zo, ru, zo + cone_height_m_, depth_m_), w);
+    }
+    sim_->add_wall(slab_segment(-ru, zo + cone_height_m_, -ru, top_m_, depth_m_), w);
+    sim_->add_wall(slab_segment(ru, zo + cone_height_m_, ru, top_m_, depth_m_), w);
+  } else {
+    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, zo, rl), w);
+    orifice_wall_ = sim_->add_wall(
+        std::make_unique<OrificePlateWall>(
+            OrificePlateWall::circular(Vec3{0, 0, zo}, Vec3{0, 0, 1}, o_.orifice_diameter_m, never, rl)),
+        w);
+    if (cone_height_m_ > 0.0)
+      sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, zo}, Vec3{0, 0, 1}, cone_height_m_, r0, ru), w);
+    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, zo + cone_height_m_}, Vec3{0, 0, 1},
+                                                  o_.upper_height_m, ru),
+                   w);
+  }
+
+  FillOptions fill;
+  fill.material = p;
+  fill.density_kg_m3 = material.particle.density_kg_m3;
+  fill.amount.mass_kg = fill_mass_kg_;
+  fill.method = "lattice";
+  const double z0 = zo + cone_height_m_ + margin;
+  auto region = slice ? make_box_region({-ru + margin, 0.0, z0}, {ru - margin, depth_m_, z0 + fill_height})
+                      : make_cylinder_region({0, 0, z0}, ru - margin, fill_height);
+  sim_->add_inserter(make_fill_inserter(std::move(region), std::move(sizes), fill));
+}
+
+double Sandglass::chamber_volume_below_m3(double h) const {
+  const double zo = o_.drop_height_m;
+  const double ru = 0.5 * o_.upper_diameter_m, r0 = 0.5 * o_.orifice_diameter_m;
+  const double z = h - zo;
+  if (z <= 0.0) return 0.0;
+  const bool slice = o_.reduction.slice;
+  double v = 0.0;
+  const double zc = std::min(z, cone_height_m_);
+  if (zc > 0.0) {
+    const double r1 = r0 + (ru - r0) * zc / cone_height_m_;
+    v += slice ? (r0 + r1) * zc * depth_m_ : kPi * zc * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;
+  }
+  if (z > cone_height_m_) {
+    const double zz = z - cone_height_m_;
+    v += slice ? 2.0 * ru * zz * depth_m_ : kPi * ru * ru * zz;
+  }
+  return v;
+}
+
+double Sandglass::fill_surface_height_m() const {
+  // Mean of the highest particle tops in bins across the inner 80 % of the
+  // chamber: the walls' rim effects and stray grains stay out of the mean.
+  const auto& p = sim_->particles();
+  const double ru = 0.5 * o_.upper_diameter_m;
+  const double bin = 2.0 * diameter_m_;
+  const int nb = std::max(1, static_cast<int>(1.6 * ru / bin));
+  std::vector<double> top(nb, -1.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3& x = p.position_m[i];
+    if (x.z < o_.drop_height_m) continue;
+    const double s = o_.reduction.slice ? x.x : std::copysign(std::hypot(x.x, x.y), x.x);
+    const int b = static_cast<int>(std::floor((s + 0.8 * ru) / bin));
+    if (b < 0 || b >= nb) continue;
+    top[b] = std::max(top[b], x.z + p.radius_m[i]);
+  }
+  double sum = 0.0;
+  int n = 0;
+  for (double t : top)
+    if (t > 0.0) {
+      sum += t;
+      ++n;
+    }
+  return n > 0 ? sum / n : o_.drop_height_m;
+}
+
+ApparatusResult Sandglass::run(const StepObserver& observe) {
+  ApparatusResult r;
+  Simulation& sim = *sim_;
+  r.details["apparatus"] = name();
+  r.details["variant"] = o_.reduction.slice ? "slice" : "full";
+  r.details["particle_diameter_m"] = diameter_m_;
+  r.details["fill_mass_kg"] = fill_mass_kg_;
+  if (o_.reduction.slice) r.details["slice_thickness_m"] = depth_m_;
+
+  // 1. Fill the upper chamber and let it settle with the orifice shut.
+  const bool settled = protocol::settle(sim, protocol_, protocol_.max_settle_s, observe, "fill", r.details);
+  const double fill_mass = protocol::total_mass_kg(sim.particles());
+  const double surface = fill_surface_height_m();
+  const double bulk_volume = chamber_volume_below_m3(surface);
+  r.details["particles"] = sim.particles().size();
+  r.details["fill_settled"] = settled;
+  r.details["fill_surface_height_m"] = surface;
+  if (bulk_volume > 0.0) r.observables["bulk_density_kg_m3"] = fill_mass / bulk_volume;
+
+  // 2. Open the orifice and record m(t): the mass whose centre has passed the plate.
+  const double opened = sim.time_s();
+  static_cast<OrificePlateWall&>(sim.mutable_wall(orifice_wall_)).set_open_time(opened);
+  sim.geometry_changed();
+  const auto& pp = sim.particles();
+  const double zo = o_.drop_height_m;
+  DischargeRecorder recorder(zo, opened, protocol_.sample_interval_s);
+  recorder.reserve_for(protocol_.max_flow_s);
+  recorder.sample(sim);
+  double last_change = opened;
+  double last_mass = 0.0;
+  std::string ended = "time cap (max_flow_s)";
+  while (sim.time_s() - opened < protocol_.max_flow_s) {
+    sim.step();
+    if (observe) observe(sim, "discharge");
+    if (!recorder.due(sim.time_s())) continue;
+    recorder.sample(sim);
+    const double below = recorder.mass_kg().back();
+    if (below > last_mass) {
+      last_mass = below;
+      last_change = sim.time_s();
+    }
+    if (below >= fill_mass * (1.0 - 1e-12)) {
+      ended = "all mass discharged";
+      break;
+    }
+    if (sim.time_s() - last_change > protocol_.stall_time_s) {
+      ended = "no mass passed for stall_time_s";
+      break;
+    }
+  }
+  r.details["discharge_ended_because"] = ended;
+  DischargeOptions dopt;
+  dopt.stall_time_s = protocol_.stall_time_s;
+  const DischargeAnalysis flow = recorder.analyse(dopt);
+  r.details["discharge"] = to_json(flow);
+  r.observables["discharge_time_s"] =
+      std::isfinite(flow.discharge_time_s) ? nlohmann::json(flow.discharge_time_s) : nlohmann::json();
+  r.observables["mass_flow_rate_kg_s"] = std::isfinite(flow.mass_flow_rate_kg_s)
+                                             ? nlohmann::json(flow.mass_flow_rate_kg_s)
+                                             : nlohmann::json();
+  r.series["discharged_mass"] = recorder.series_json();
+
+  // 3. Let the pile below come to rest and measure its angle of repose.
+  r.details["pile_settled"] =
+      protocol::settle(sim, protocol_, protocol_.max_settle_s, observe, "pile", r.details);
+  std::vector<Vec3> pos;
+  std::vector<double> rad;
+  for (std::size_t i = 0; i < pp.size(); ++i)
+    if (pp.position_m[i].z < zo) {
+      pos.push_back(pp.position_m[i]);
+      rad.push_back(pp.radius_m[i]);
+    }
+  try {
+    if (o_.reduction.slice) {
+      SliceAoROptions a;
+      a.long_axis = 0;
+      r.series["pile"] = to_json(measure_slice_angle_of_repose(pos, rad, a));
+    } else {
+      ConicalAoROptions a;
+      a.axis_centre_m = std::array<double, 2>{0.0, 0.0};
+      r.series["pile"] = to_json(measure_conical_angle_of_repose(pos, rad, a));
+    }
+    r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
+    r.observables["angle_of_repose_uncertainty_deg"] =
+        r.series["pile"]["angle_of_repose_uncertainty_deg"];
+  } catch (const std::runtime_error& e) {
+    r.observables["angle_of_repose_deg"] = nullptr;
+    r.details["angle_of_repose_error"] = e.what();
+  }
+  return r;
+}
+
+}  // namespace demcal::dem
