@@ -250,7 +250,31 @@ ApparatusResult Sandglass::run(const StepObserver& observe) {
   r.details["discharge_ended_because"] = ended;
   DischargeOptions dopt;
   dopt.stall_time_s = protocol_.stall_time_s;
-  const DischargeAnalysis flow = recorder.analyse(dopt);
+  // A flat bottom keeps dead zones at rest beside a clear orifice: the flow has
+  // ended, not clogged. A clog is an arch: grains resting over the opening.
+  // So the fraction rule is off and the arch is looked for directly.
+  dopt.complete_fraction = 1e-9;
+  DischargeAnalysis flow = recorder.analyse(dopt);
+  if (flow.status == "complete" && flow.discharged_fraction < 1.0) {
+    const double r0 = 0.5 * o_.orifice_diameter_m;
+    std::size_t over = 0;
+    for (std::size_t i = 0; i < pp.size(); ++i) {
+      const Vec3& x = pp.position_m[i];
+      const double off_axis = o_.reduction.slice ? std::abs(x.x) : std::hypot(x.x, x.y);
+      if (x.z > zo && x.z < zo + 2.0 * o_.orifice_diameter_m && off_axis < r0) ++over;
+    }
+    r.details["grains_over_orifice_at_stop"] = over;
+    if (over > 0) {
+      std::ostringstream status;
+      status << "clogged: an arch over the orifice after " << 100.0 * flow.discharged_fraction
+             << " % discharged at t = " << flow.flow_stopped_s << " s";
+      flow.status = status.str();
+      flow.clogged = true;
+      flow.discharge_time_s = DischargeAnalysis::kNaN;
+    } else {
+      r.details["retained_in_dead_zones_fraction"] = 1.0 - flow.discharged_fraction;
+    }
+  }
   r.details["discharge"] = to_json(flow);
   r.observables["discharge_time_s"] =
       std::isfinite(flow.discharge_time_s) ? nlohmann::json(flow.discharge_time_s) : nlohmann::json();
