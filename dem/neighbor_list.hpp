@@ -29,6 +29,10 @@ class NeighborList {
   bool needs_rebuild(const std::vector<Vec3>& position_m) const;
   double max_displacement_m(const std::vector<Vec3>& position_m) const;
 
+  // Where each particle was at the last build, and the skin: lets the
+  // integrator fold the displacement check into its own loop.
+  const std::vector<Vec3>& positions_at_build() const { return position_at_build_; }
+  double skin_m() const { return skin_m_; }
   std::size_t pair_count() const { return partner_.size(); }
   std::size_t build_count() const { return builds_; }
 

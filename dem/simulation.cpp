@@ -241,9 +241,14 @@ void Simulation::step() {
   // the default step). So they are evaluated with the full-step velocity
   // predicted from the last force, and the second kick corrects the prediction:
   // positions, and velocities in conservative systems, are plain Verlet's.
+  // Each parallel region is a fork and a join; the displacement check for the
+  // Verlet list rides along in the drift loop rather than in a loop of its own.
   force_before_.resize(n);
   torque_before_.resize(n);
-#pragma omp parallel for schedule(static) num_threads(options_.threads)
+  const auto& x_build = neighbors_.positions_at_build();
+  const bool comparable = x_build.size() == n;
+  double max_move2 = 0.0;
+#pragma omp parallel for schedule(static) num_threads(options_.threads) reduction(max : max_move2)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 dv = (h * im[i]) * f[i];
     const Vec3 dw = (h * ii[i]) * t[i];
@@ -252,10 +257,12 @@ void Simulation::step() {
     w[i] += 2.0 * dw;
     force_before_[i] = f[i];
     torque_before_[i] = t[i];
+    if (comparable) max_move2 = std::max(max_move2, norm2(x[i] - x_build[i]));
   }
   time_s_ += dt_;
 
-  bool rebuild = rebuild_requested_ || neighbors_.needs_rebuild(x);
+  const double half_skin = 0.5 * neighbors_.skin_m();
+  bool rebuild = rebuild_requested_ || !comparable || max_move2 > half_skin * half_skin;
   for (std::size_t k = 0; k < walls_.size() && !rebuild; ++k)
     if (walls_[k]->motion().moves() &&
         norm(walls_[k]->motion().displacement_m(time_s_) - wall_offset_at_build_[k]) > 0.5 * skin_m_)
@@ -268,14 +275,22 @@ void Simulation::step() {
 
   compute_forces();
 
-#pragma omp parallel for schedule(static) num_threads(options_.threads)
+  // The second kick, and the stability check in the same pass.
+  const Domain& dom = options_.domain;
+  const double vmax2 = max_speed_m_s_ * max_speed_m_s_;
+  std::size_t first_bad = n;
+#pragma omp parallel for schedule(static) num_threads(options_.threads) reduction(min : first_bad)
   for (std::size_t i = 0; i < n; ++i) {
     v[i] += (h * im[i]) * (f[i] - force_before_[i]);
     w[i] += (h * ii[i]) * (t[i] - torque_before_[i]);
+    bool bad = !is_finite(x[i]) || !is_finite(v[i]) || norm2(v[i]) > vmax2;
+    for (int k = 0; k < 3; ++k)
+      if (!dom.periodic[k] && !dom.inside(x[i], k)) bad = true;
+    if (bad) first_bad = std::min(first_bad, i);
   }
   ++steps_;
   particle_steps_ += static_cast<double>(n);
-  check_stability();
+  if (first_bad < n) report_instability(first_bad);
 }
 
 void Simulation::run_steps(std::int64_t steps) {
@@ -288,22 +303,11 @@ void Simulation::run_until(double time_s) {
   while (time_s_ + 0.5 * dt_ < time_s) step();
 }
 
-void Simulation::check_stability() const {
-  const std::size_t n = particles_.size();
+void Simulation::report_instability(std::size_t i) const {
   const auto& x = particles_.position_m;
   const auto& v = particles_.velocity_m_s;
   const Domain& dom = options_.domain;
   const double vmax2 = max_speed_m_s_ * max_speed_m_s_;
-  std::size_t first_bad = n;
-#pragma omp parallel for schedule(static) num_threads(options_.threads) reduction(min : first_bad)
-  for (std::size_t i = 0; i < n; ++i) {
-    bool bad = !is_finite(x[i]) || !is_finite(v[i]) || norm2(v[i]) > vmax2;
-    for (int k = 0; k < 3; ++k)
-      if (!dom.periodic[k] && !dom.inside(x[i], k)) bad = true;
-    if (bad) first_bad = std::min(first_bad, i);
-  }
-  if (first_bad == n) return;
-  const std::size_t i = first_bad;
   std::ostringstream msg;
   msg << "unstable run at t = " << time_s_ << " s (step " << steps_ << "): particle id "
       << particles_.id[i] << " ";

@@ -120,7 +120,7 @@ class Simulation {
   void run_inserters();
   void rebuild_neighbors();
   void compute_forces();
-  void check_stability() const;
+  [[noreturn]] void report_instability(std::size_t particle) const;
   template <class Kernel>
   void compute_contact_forces(const Kernel& kernel);
 
