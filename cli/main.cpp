@@ -21,16 +21,27 @@ int main(int argc, char** argv) {
   SimulateOptions sim_opts;
   std::string config;
   std::string output;
+  std::string apparatus;
   int threads = 0;
-  CLI::App* simulate_cmd = app.add_subcommand("simulate", "Run one simulation from a TOML config");
-  simulate_cmd->add_option("config", config, "The simulation config (TOML)")->required();
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate", "Run one simulation, or one apparatus of a study, from a TOML config");
+  simulate_cmd
+      ->add_option("config", config,
+                   "The simulation config, or a study config with [apparatus.*] tables (TOML)")
+      ->required();
   simulate_cmd
       ->add_option("--set", sim_opts.overrides,
-                   "Override a config value, e.g. --set interaction[0].sliding_friction=0.4 "
+                   "Override a config value, e.g. --set interaction[0].sliding_friction=0.4; "
+                   "in a study, mu_s=0.52 and mu_r=0.3 stand for "
+                   "interaction.particle_particle.sliding_friction and .rolling_friction "
                    "(repeatable)")
       ->allow_extra_args(false);
+  simulate_cmd->add_option("--apparatus", apparatus,
+                           "Study configs: the apparatus to run (needed when the study defines "
+                           "several)");
   simulate_cmd->add_option("--output", output, "Output directory (replaces output.directory)");
-  simulate_cmd->add_option("--threads", threads, "Threads (replaces simulation.threads)")
+  simulate_cmd
+      ->add_option("--threads", threads, "Threads (replaces simulation.threads or study.threads)")
       ->check(CLI::Range(1, 4096));
   simulate_cmd->add_flag("--overwrite", sim_opts.overwrite,
                          "Replace the run.json of an earlier run in the output directory");
@@ -55,6 +66,7 @@ int main(int argc, char** argv) {
       sim_opts.config = config;
       if (!output.empty()) sim_opts.output_dir = output;
       if (threads > 0) sim_opts.threads = threads;
+      if (!apparatus.empty()) sim_opts.apparatus = apparatus;
       sim_opts.progress = !sim_opts.quiet && isatty(fileno(stderr)) != 0;
       simulate(sim_opts, std::cout, std::cerr);
     }

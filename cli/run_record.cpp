@@ -56,18 +56,24 @@ nlohmann::json toml_to_json(const toml::node& node) {
   return text.str();
 }
 
-nlohmann::json make_run_record(const SimulationConfig& config, const RunResults& results) {
-  const dem::Simulation& sim = *config.simulation;
+namespace {
+
+// What every run record starts with, whatever assembled the simulation.
+nlohmann::json record_header(const std::string& file, const toml::table& resolved,
+                             const dem::Simulation& sim, const RunResults& results) {
   nlohmann::json r;
   r["engine"] = {{"name", "demcal"}, {"version", engine_version()}};
-  r["config_file"] = config.file;
+  r["config_file"] = file;
   r["written_utc"] = utc_now();
-  r["inputs"] = toml_to_json(config.resolved);
+  r["inputs"] = toml_to_json(resolved);
   r["seed"] = sim.options().seed;
   r["threads"] = sim.options().threads;
   r["time_step_s"] = results.time_step_s;
   r["contact_law"] = sim.contact_law().describe();
+  return r;
+}
 
+nlohmann::json common_results(const dem::Simulation& sim, const RunResults& results) {
   nlohmann::json res;
   res["time_s"] = sim.time_s();
   res["steps"] = sim.step_count();
@@ -80,6 +86,26 @@ nlohmann::json make_run_record(const SimulationConfig& config, const RunResults&
   if (!results.error.empty()) res["error"] = results.error;
   res["rms_speed_m_s"] = sim.rms_speed_m_s();
   res["kinetic_energy_j"] = sim.kinetic_energy_j();
+  return res;
+}
+
+nlohmann::json outputs_json(const RunResults& results) {
+  nlohmann::json outputs;
+  outputs["vtk_series"] = results.vtk_series.empty() ? nlohmann::json(nullptr)
+                                                     : nlohmann::json(results.vtk_series.string());
+  outputs["vtk_walls_series"] = results.vtk_walls_series.empty()
+                                    ? nlohmann::json(nullptr)
+                                    : nlohmann::json(results.vtk_walls_series.string());
+  outputs["snapshots"] = results.snapshots;
+  return outputs;
+}
+
+}  // namespace
+
+nlohmann::json make_run_record(const SimulationConfig& config, const RunResults& results) {
+  const dem::Simulation& sim = *config.simulation;
+  nlohmann::json r = record_header(config.file, config.resolved, sim, results);
+  nlohmann::json res = common_results(sim, results);
   res["insertion"] = nlohmann::json::array();
   for (std::size_t i = 0; i < sim.inserters().size(); ++i) {
     const auto& ins = *sim.inserters()[i];
@@ -102,15 +128,38 @@ nlohmann::json make_run_record(const SimulationConfig& config, const RunResults&
                             {"contacts", load.contacts}});
   }
   r["results"] = res;
+  r["outputs"] = outputs_json(results);
+  return r;
+}
 
-  nlohmann::json outputs;
-  outputs["vtk_series"] = results.vtk_series.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(results.vtk_series.string());
-  outputs["vtk_walls_series"] = results.vtk_walls_series.empty()
-                                    ? nlohmann::json(nullptr)
-                                    : nlohmann::json(results.vtk_walls_series.string());
-  outputs["snapshots"] = results.snapshots;
-  r["outputs"] = outputs;
+const std::vector<std::string>& stable_observable_names() {
+  static const std::vector<std::string> names = {"angle_of_repose_deg", "discharge_time_s",
+                                                 "mass_flow_rate_kg_s", "bulk_density_kg_m3"};
+  return names;
+}
+
+nlohmann::json with_stable_observables(nlohmann::json observables) {
+  if (!observables.is_object()) observables = nlohmann::json::object();
+  for (const std::string& name : stable_observable_names())
+    if (!observables.contains(name)) observables[name] = nullptr;
+  return observables;
+}
+
+nlohmann::json make_apparatus_run_record(const StudyConfig& study, const StudyApparatus& apparatus,
+                                         const RunResults& results,
+                                         const dem::ApparatusResult* result) {
+  const dem::Simulation& sim = apparatus.apparatus->simulation();
+  nlohmann::json r =
+      record_header(study.file, resolved_for(study, apparatus.name), sim, results);
+  r["study"] = study.name;
+  r["apparatus"] = apparatus.name;
+  nlohmann::json res = common_results(sim, results);
+  if (!results.phase.empty()) res["phase"] = results.phase;
+  r["results"] = res;
+  r["observables"] = with_stable_observables(result ? result->observables : nlohmann::json());
+  r["series"] = result ? result->series : nlohmann::json::object();
+  r["details"] = result ? result->details : nlohmann::json::object();
+  r["outputs"] = outputs_json(results);
   return r;
 }
 
@@ -125,6 +174,16 @@ void check_no_previous_run(const std::filesystem::path& output_dir, bool overwri
     throw ConfigError(path.string() +
                       " exists from an earlier run; not overwriting it. Pass --overwrite to "
                       "replace that run, or choose another directory with --output");
+}
+
+void prepare_output_directory(const std::filesystem::path& output_dir, bool overwrite) {
+  check_no_previous_run(output_dir, overwrite);
+  if (overwrite) {
+    std::filesystem::remove_all(output_dir / "vtk");
+    std::filesystem::remove(output_dir / "particles.pvd");
+    std::filesystem::remove(output_dir / "walls.pvd");
+  }
+  std::filesystem::create_directories(output_dir);
 }
 
 void write_run_record(const std::filesystem::path& output_dir, const nlohmann::json& record) {

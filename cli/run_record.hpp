@@ -5,6 +5,8 @@
 // unit a calibration campaign collects, so it is never silently overwritten.
 
 #include "cli/simulation_config.hpp"
+#include "cli/study_config.hpp"
+#include "dem/apparatus/apparatus.hpp"
 
 #include <toml++/toml.h>
 #include <nlohmann/json.hpp>
@@ -12,6 +14,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace demcal::cli {
 
@@ -26,6 +29,7 @@ struct RunResults {
   std::filesystem::path vtk_series;        // particles .pvd; empty without VTK output
   std::filesystem::path vtk_walls_series;  // walls .pvd
   std::size_t snapshots = 0;
+  std::string phase;  // apparatus runs: the phase the run was in when it ended
 };
 
 // TOML to JSON; non-finite numbers become the strings "inf", "-inf", "nan"
@@ -34,11 +38,30 @@ nlohmann::json toml_to_json(const toml::node& node);
 
 nlohmann::json make_run_record(const SimulationConfig& config, const RunResults& results);
 
+// The record of one apparatus run of a study: the same header and results as
+// a plain run (inputs = the study resolved for this apparatus), plus
+// "apparatus", and the ApparatusResult's "observables", "series" and "details".
+// `result` is null when the run failed; the stable observables
+// (stable_observable_names) are always present, null where not measured.
+nlohmann::json make_apparatus_run_record(const StudyConfig& study, const StudyApparatus& apparatus,
+                                         const RunResults& results,
+                                         const dem::ApparatusResult* result);
+
+// angle_of_repose_deg, discharge_time_s, mass_flow_rate_kg_s, bulk_density_kg_m3:
+// the names a campaign reads from every apparatus run.
+const std::vector<std::string>& stable_observable_names();
+// `observables` with every stable name present (null where not measured).
+nlohmann::json with_stable_observables(nlohmann::json observables);
+
 std::filesystem::path run_record_path(const std::filesystem::path& output_dir);
 
 // Throws ConfigError when <output_dir>/run.json exists and `overwrite` is false:
 // an earlier run's record is the evidence of that run and must not be lost by accident.
 void check_no_previous_run(const std::filesystem::path& output_dir, bool overwrite);
+
+// check_no_previous_run, then, with `overwrite`, removes the replaced run's
+// snapshots (they would otherwise linger beside the new ones); creates the directory.
+void prepare_output_directory(const std::filesystem::path& output_dir, bool overwrite);
 
 // Writes <output_dir>/run.json atomically.
 void write_run_record(const std::filesystem::path& output_dir, const nlohmann::json& record);

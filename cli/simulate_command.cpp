@@ -1,5 +1,8 @@
 #include "cli/simulate_command.hpp"
 
+#include "cli/apparatus_command.hpp"
+#include "cli/study_config.hpp"
+
 #include "dem/output/vtk_writer.hpp"
 #include "dem/simulation.hpp"
 
@@ -27,54 +30,61 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, do
   return buf;
 }
 
-// One line, rewritten in place with a carriage return about twice a second.
-class ProgressLine {
- public:
-  ProgressLine(std::ostream& os, bool enabled, double end_time_s)
-      : os_(os), enabled_(enabled), end_s_(end_time_s), start_(Clock::now()), last_(start_) {}
-
-  void update(const dem::Simulation& sim) {
-    if (!enabled_) return;
-    const Clock::time_point now = Clock::now();
-    const double since_last = std::chrono::duration<double>(now - last_).count();
-    if (since_last < 0.5) return;
-    // The recent rate, not the average: the particle count grows during a pour.
-    const double rate = (sim.particle_steps() - last_particle_steps_) / since_last;
-    last_ = now;
-    last_particle_steps_ = sim.particle_steps();
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const double t = sim.time_s();
-    std::string line = format("t = %.4f / %.4f s | ", t, end_s_) +
-                       std::to_string(sim.particles().size()) + " particles | " +
-                       format("%.3g particle-steps/s", rate);
-    if (t > 0.0) line += format(" | <= %.0f s left", elapsed * (end_s_ - t) / t);
-    // Pad so a shorter line fully covers the previous one.
-    if (line.size() < width_) line.append(width_ - line.size(), ' ');
-    width_ = line.size();
-    os_ << '\r' << line << std::flush;
-    shown_ = true;
-  }
-  void finish() {
-    if (shown_) os_ << '\n' << std::flush;
-    shown_ = false;
-  }
-
- private:
-  std::ostream& os_;
-  bool enabled_;
-  double end_s_;
-  Clock::time_point start_;
-  Clock::time_point last_;
-  double last_particle_steps_ = 0.0;
-  std::size_t width_ = 0;
-  bool shown_ = false;
-};
-
 }  // namespace
+
+ProgressLine::ProgressLine(std::ostream& os, bool enabled)
+    : os_(os), enabled_(enabled), start_(Clock::now()), last_(start_), phase_start_(start_) {}
+
+void ProgressLine::update(const dem::Simulation& sim, std::string_view phase, double end_s) {
+  if (!enabled_) return;
+  const Clock::time_point now = Clock::now();
+  if (phase != phase_) {
+    phase_ = phase;
+    phase_start_s_ = sim.time_s();
+    phase_start_ = now;
+  }
+  const double since_last = std::chrono::duration<double>(now - last_).count();
+  if (since_last < 0.5) return;
+  // The recent rate, not the average: the particle count grows during a pour.
+  const double rate = (sim.particle_steps() - last_particle_steps_) / since_last;
+  last_ = now;
+  last_particle_steps_ = sim.particle_steps();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double t = sim.time_s();
+  std::string line;
+  if (phase_.empty()) {
+    line = format("t = %.4f / %.4f s | ", t, end_s);
+  } else {
+    line = phase_ + format(" | t = %.4f s | ", t);
+  }
+  line += std::to_string(sim.particles().size()) + " particles | " +
+          format("%.3g particle-steps/s", rate);
+  if (!phase_.empty()) line += format(" | %.0f s elapsed", elapsed);
+  // Before the event is over only a cap bounds it, so the estimate is an upper bound.
+  const double phase_elapsed = std::chrono::duration<double>(now - phase_start_).count();
+  if (std::isfinite(end_s) && t > phase_start_s_)
+    line += format(" | <= %.0f s left", phase_elapsed * (end_s - t) / (t - phase_start_s_)) +
+            (phase_.empty() ? "" : " (to the " + phase_ + " cap)");
+  // Pad so a shorter line fully covers the previous one.
+  if (line.size() < width_) line.append(width_ - line.size(), ' ');
+  width_ = line.size();
+  os_ << '\r' << line << std::flush;
+  shown_ = true;
+}
+
+void ProgressLine::finish() {
+  if (shown_) os_ << '\n' << std::flush;
+  shown_ = false;
+}
 
 SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
                          std::ostream& progress_stream) {
   ConfigDocument doc = read_config_file(options.config);
+  if (is_study_config(doc)) return simulate_apparatus(options, std::move(doc), out, progress_stream);
+  if (options.apparatus)
+    throw ConfigError(doc.file + ": --apparatus " + *options.apparatus +
+                      ": applies only to study configs (with [apparatus.*] tables); this is a "
+                      "simulation config");
   for (const auto& o : options.overrides) apply_override(doc, o);
   if (options.output_dir)
     set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
@@ -84,14 +94,7 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
                      "--threads " + std::to_string(*options.threads));
   SimulationConfig cfg = build_simulation(std::move(doc));
   const std::filesystem::path dir = cfg.output.directory;
-  check_no_previous_run(dir, options.overwrite);
-  if (options.overwrite) {
-    // The replaced run's snapshots would otherwise linger beside the new ones.
-    std::filesystem::remove_all(dir / "vtk");
-    std::filesystem::remove(dir / "particles.pvd");
-    std::filesystem::remove(dir / "walls.pvd");
-  }
-  std::filesystem::create_directories(dir);
+  prepare_output_directory(dir, options.overwrite);
 
   dem::Simulation& sim = *cfg.simulation;
   // The configured thread count also becomes OpenMP's default, so a parallel
@@ -112,7 +115,7 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
     res.vtk_walls_series = vtk->walls_pvd();
   }
   const Clock::time_point start = Clock::now();
-  ProgressLine progress(progress_stream, options.progress, rc.end_time_s);
+  ProgressLine progress(progress_stream, options.progress);
   try {
     // Resolves the time step and performs the insertions due at t = 0.
     const double dt = sim.time_step_s();
@@ -143,7 +146,7 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
           break;
         }
       }
-      if ((sim.step_count() & 63) == 0) progress.update(sim);
+      if ((sim.step_count() & 63) == 0) progress.update(sim, {}, rc.end_time_s);
     }
     progress.finish();
     if (vtk && (vtk->snapshots() == 0 || vtk->last_time_s() < sim.time_s())) vtk->write(sim);

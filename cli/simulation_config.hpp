@@ -98,6 +98,7 @@
 // (either order; names containing '.' cannot be selected). Value arrays may be indexed too:
 // domain.upper_m[2]. A key the schema does not know is an error naming it.
 
+#include "cli/toml_reader.hpp"
 #include "dem/simulation.hpp"
 
 #include <toml++/toml.h>
@@ -112,34 +113,6 @@
 #include <vector>
 
 namespace demcal::cli {
-
-class ConfigError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-// A parsed config file with the overrides applied so far.
-struct ConfigDocument {
-  std::string file;  // as given by the user; prefixes every message
-  toml::table table;
-  struct Override {
-    std::string text;  // e.g. "--set interaction[0].sliding_friction=0.4"
-    std::size_t line;  // line reported for errors in the overridden value
-  };
-  // Canonical dotted path (arrays of tables by index) -> where its value came from.
-  std::map<std::string, Override> overrides;
-};
-
-ConfigDocument read_config_file(const std::filesystem::path& path);
-// For tests and for configs assembled in memory; `file_name` is used in messages.
-ConfigDocument parse_config_string(std::string_view text, const std::string& file_name);
-
-// Applies one "dotted.key=value".
-void apply_override(ConfigDocument& doc, std::string_view assignment);
-// Sets one value programmatically (command-line options such as --output);
-// `origin` names the option in error messages.
-void set_config_value(ConfigDocument& doc, std::string_view path, toml::node&& value,
-                      const std::string& origin);
 
 struct RunControl {
   double end_time_s = 0.0;

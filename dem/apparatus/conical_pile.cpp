@@ -18,7 +18,6 @@ namespace demcal::dem {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kLatticeSolidFraction = 0.40;
 
 std::unique_ptr<Wall> slab_segment(double x0, double z0, double x1, double z1, double depth) {
   const double len = std::hypot(x1 - x0, z1 - z0);
@@ -72,20 +71,26 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
 
   const double margin = d_max;
   const double fill_h = o_.feed_height_m - 2.0 * margin;
-  const double fill_volume = slice ? 2.0 * (rt - margin) * depth_m_ * fill_h : kPi * (rt - margin) * (rt - margin) * fill_h;
-  const double capacity = kLatticeSolidFraction * material.particle.density_kg_m3 * fill_volume;
-  if (fill_h <= 0.0 || fill_mass > capacity) {
-    std::ostringstream s;
-    s << "conical_pile: the feed section cannot hold the fill: fill_mass_kg = " << o_.fill_mass_kg
-      << " kg needs more than about " << capacity << " kg of loose fill fits; raise feed_height_m";
-    throw std::invalid_argument(s.str());
-  }
-
   // The catch tray: wide enough for what rolls off the plate.
   const double rc = std::max(2.0 * rb, rt + 4.0 * d_max);
   const double m = 3.0 * d_max;
   const Vec3 lo = slice ? Vec3{-rc - m, 0.0, -m} : Vec3{-rc - m, -rc - m, -m};
   const Vec3 hi = slice ? Vec3{rc + m, depth_m_, top + m} : Vec3{rc + m, rc + m, top + m};
+  const double z0 = outlet_height_m_ + funnel_h + margin;
+  auto region = fill_h <= 0.0 ? nullptr
+                : slice ? make_box_region({-rt + margin, 0.0, z0}, {rt - margin, depth_m_, z0 + fill_h})
+                        : make_cylinder_region({0, 0, z0}, rt - margin, fill_h);
+  const double capacity = region ? lattice_capacity_kg(*region, *sizes, material.particle.density_kg_m3,
+                                                       Domain{lo, hi, {false, slice, false}})
+                                 : 0.0;
+  if (fill_mass > capacity) {
+    std::ostringstream s;
+    s << "conical_pile: the feed section cannot hold the fill: fill_mass_kg = " << o_.fill_mass_kg
+      << " kg needs more than its loose lattice fill takes (" << capacity
+      << " kg); raise feed_height_m or funnel_top_diameter_m";
+    throw std::invalid_argument(s.str());
+  }
+
   sim_ = std::make_unique<Simulation>(protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
   const auto [p, w] = install_materials(*sim_, material, o_.reduction);
   const double never = std::numeric_limits<double>::infinity();
@@ -122,9 +127,6 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
   fill.density_kg_m3 = material.particle.density_kg_m3;
   fill.amount.mass_kg = fill_mass;
   fill.method = "lattice";
-  const double z0 = outlet_height_m_ + funnel_h + margin;
-  auto region = slice ? make_box_region({-rt + margin, 0.0, z0}, {rt - margin, depth_m_, z0 + fill_h})
-                      : make_cylinder_region({0, 0, z0}, rt - margin, fill_h);
   sim_->add_inserter(make_fill_inserter(std::move(region), std::move(sizes), fill));
 }
 

@@ -1,6 +1,9 @@
 #include "dem/apparatus/granular_material.hpp"
 
+#include "dem/insertion/inserter.hpp"
 #include "dem/simulation.hpp"
+
+#include <numbers>
 
 #include <cmath>
 #include <sstream>
@@ -45,6 +48,14 @@ std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistrib
 
 double mean_diameter_m(const SizeDistribution& sizes) {
   return std::cbrt(sizes.mean_diameter_cubed_m3());
+}
+
+double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
+                           double density_kg_m3, const Domain& domain) {
+  // FillOptions' default gap; the apparatus fill with it.
+  const std::size_t sites = lattice_sites(region, sizes.max_diameter_m(), FillOptions{}.lattice_gap, domain).size();
+  return static_cast<double>(sites) * density_kg_m3 * std::numbers::pi / 6.0 *
+         sizes.mean_diameter_cubed_m3();
 }
 
 std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& m,

@@ -4,6 +4,8 @@
 
 #include "dem/contact/contact_law.hpp"
 #include "dem/contact/pair_coefficients.hpp"
+#include "dem/domain.hpp"
+#include "dem/insertion/region.hpp"
 #include "dem/material.hpp"
 #include "dem/size_distribution.hpp"
 
@@ -43,6 +45,10 @@ std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistrib
 
 // Volume-equivalent mean diameter, (mean d^3)^(1/3): the "d" in "4 d" and in Beverloo's law.
 double mean_diameter_m(const SizeDistribution& sizes);
+
+// Mass a lattice fill of `region` takes (its sites times the mean particle mass).
+double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
+                           double density_kg_m3, const Domain& domain);
 
 // Adds both materials and both interactions, with the reduction's modulus;
 // returns {particle material index, wall material index}.

@@ -5,6 +5,7 @@
 #include "dem/wall/plane_wall.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -56,10 +57,10 @@ RectangularContainer::RectangularContainer(const RectangularContainerOptions& op
   if (inlet_half >= half)
     throw std::invalid_argument("rectangular_container: the inlet is wider than the container");
 
-  // A heap of this mass at a steep 45 degrees must fit the width, or it would
-  // bank against the side walls and the angle would be the walls'.
+  // A heap of this mass must fit the width even at a low 20 degrees, or it
+  // would bank against the side walls and the angle would be the walls'.
   const double area = o_.fill_mass_kg / (0.6 * material.particle.density_kg_m3 * thickness_m_);
-  const double base_half_width = std::sqrt(area);  // triangle of slope 1: area = w^2
+  const double base_half_width = std::sqrt(area / std::tan(20.0 * std::numbers::pi / 180.0));
   if (base_half_width > 0.9 * half) {
     std::ostringstream s;
     s << "rectangular_container: fill_mass_kg = " << o_.fill_mass_kg << " kg forms a heap about "

@@ -19,8 +19,6 @@ namespace demcal::dem {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-// Solid fraction a jittered lattice fill reaches; the capacity check uses it.
-constexpr double kLatticeSolidFraction = 0.40;
 
 void require_positive(double v, const char* name) {
   if (!(v > 0.0) || !std::isfinite(v)) {
@@ -91,24 +89,30 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
     throw std::invalid_argument(s.str());
   }
 
-  // The fill goes into the cylindrical part; check it can hold it loosely packed.
+  // The fill goes into the cylindrical part as a jittered lattice; check the
+  // lattice has the sites before anything is built.
   const double margin = d_max;
   const double fill_height = o_.upper_height_m - 2.0 * margin;
-  const double fill_volume = slice ? (2.0 * (ru - margin)) * depth_m_ * fill_height
-                                   : kPi * (ru - margin) * (ru - margin) * fill_height;
-  const double capacity_kg = kLatticeSolidFraction * material.particle.density_kg_m3 * fill_volume;
-  if (fill_height <= 0.0 || fill_mass_kg_ > capacity_kg) {
+  const double m = 3.0 * d_max;
+  const Vec3 lo = slice ? Vec3{-rl - m, 0.0, -m} : Vec3{-rl - m, -rl - m, -m};
+  const Vec3 hi = slice ? Vec3{rl + m, depth_m_, top_m_ + m} : Vec3{rl + m, rl + m, top_m_ + m};
+  const double z0 = zo + cone_height_m_ + margin;
+  auto region = fill_height <= 0.0 ? nullptr
+                : slice ? make_box_region({-ru + margin, 0.0, z0}, {ru - margin, depth_m_, z0 + fill_height})
+                        : make_cylinder_region({0, 0, z0}, ru - margin, fill_height);
+  const double capacity_kg =
+      region ? lattice_capacity_kg(*region, *sizes, material.particle.density_kg_m3,
+                                   Domain{lo, hi, {false, slice, false}})
+             : 0.0;
+  if (fill_mass_kg_ > capacity_kg) {
     std::ostringstream s;
     s << "sandglass: the upper chamber cannot hold the fill: fill_mass_kg = " << o_.fill_mass_kg
       << " kg" << (slice ? " (the slice's share " + std::to_string(fill_mass_kg_) + " kg)" : "")
-      << " needs more than its cylindrical part holds when poured loosely (about " << capacity_kg
+      << " needs more than the loose lattice fill of its cylindrical part takes (" << capacity_kg
       << " kg); raise upper_height_m or upper_diameter_m, or lower fill_mass_kg";
     throw std::invalid_argument(s.str());
   }
 
-  const double m = 3.0 * d_max;
-  const Vec3 lo = slice ? Vec3{-rl - m, 0.0, -m} : Vec3{-rl - m, -rl - m, -m};
-  const Vec3 hi = slice ? Vec3{rl + m, depth_m_, top_m_ + m} : Vec3{rl + m, rl + m, top_m_ + m};
   sim_ = std::make_unique<Simulation>(
       protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
   const auto [p, w] = install_materials(*sim_, material, o_.reduction);
@@ -146,9 +150,6 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   fill.density_kg_m3 = material.particle.density_kg_m3;
   fill.amount.mass_kg = fill_mass_kg_;
   fill.method = "lattice";
-  const double z0 = zo + cone_height_m_ + margin;
-  auto region = slice ? make_box_region({-ru + margin, 0.0, z0}, {ru - margin, depth_m_, z0 + fill_height})
-                      : make_cylinder_region({0, 0, z0}, ru - margin, fill_height);
   sim_->add_inserter(make_fill_inserter(std::move(region), std::move(sizes), fill));
 }
 

@@ -87,29 +87,16 @@ class FillInserter final : public Inserter {
     const double d_max = sizes_->max_diameter_m();
     const double spacing = d_max * (1.0 + o_.lattice_gap);
     const double jitter = 0.5 * (spacing - d_max);
-    const Vec3 lo = region_->lower_m(), hi = region_->upper_m();
-    const Vec3 len = ctx.domain().length_m();
-    std::array<int, 3> n{};
-    for (int k = 0; k < 3; ++k) {
-      // Along a periodic axis the lattice must tile the period, or the seam overlaps.
-      const double extent = hi[k] - lo[k];
-      n[k] = static_cast<int>(std::floor(extent / spacing));
-      if (ctx.domain().periodic[k] && std::abs(extent - len[k]) < 1e-12 * len[k])
-        n[k] = static_cast<int>(std::floor(len[k] / spacing));
+    for (const Vec3& site : lattice_sites(*region_, d_max, o_.lattice_gap, ctx.domain())) {
+      if (reached()) break;
+      const double r = 0.5 * sizes_->sample_diameter_m(ctx.rng());
+      const double slack = std::max(0.0, 0.5 * (spacing - 2.0 * r) - 1e-12);
+      const double j = std::min(jitter + 0.5 * (d_max - 2.0 * r), slack);
+      const Vec3 c = site + Vec3{ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j),
+                                 ctx.rng().uniform(-j, j)};
+      // The region may be round (a cylinder): keep only sites inside it.
+      if (region_->contains(c, r) && ctx.is_free(c, r)) place(ctx, c, r);
     }
-    for (int iz = 0; iz < n[2] && !reached(); ++iz)
-      for (int iy = 0; iy < n[1] && !reached(); ++iy)
-        for (int ix = 0; ix < n[0] && !reached(); ++ix) {
-          const double r = 0.5 * sizes_->sample_diameter_m(ctx.rng());
-          const double slack = std::max(0.0, 0.5 * (spacing - 2.0 * r) - 1e-12);
-          const double j = std::min(jitter + 0.5 * (d_max - 2.0 * r), slack);
-          Vec3 c{lo.x + (ix + 0.5) * ((hi.x - lo.x) / n[0]),
-                 lo.y + (iy + 0.5) * ((hi.y - lo.y) / n[1]),
-                 lo.z + (iz + 0.5) * spacing};
-          c += Vec3{ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j)};
-          // The region may be round (a cylinder): keep only sites inside it.
-          if (region_->contains(c, r) && ctx.is_free(c, r)) place(ctx, c, r);
-        }
   }
 
   std::unique_ptr<Region> region_;
@@ -121,6 +108,32 @@ class FillInserter final : public Inserter {
 };
 
 }  // namespace
+
+std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, double lattice_gap,
+                                const Domain& domain) {
+  const double spacing = max_diameter_m * (1.0 + lattice_gap);
+  const Vec3 lo = region.lower_m(), hi = region.upper_m();
+  const Vec3 len = domain.length_m();
+  std::array<int, 3> n{};
+  for (int k = 0; k < 3; ++k) {
+    // Along a periodic axis the lattice must tile the period, or the seam overlaps.
+    const double extent = hi[k] - lo[k];
+    n[k] = static_cast<int>(std::floor(extent / spacing));
+    if (domain.periodic[k] && std::abs(extent - len[k]) < 1e-12 * len[k])
+      n[k] = static_cast<int>(std::floor(len[k] / spacing));
+  }
+  std::vector<Vec3> sites;
+  // Bottom up, so a partial fill is a settled-looking stack of layers.
+  for (int iz = 0; iz < n[2]; ++iz)
+    for (int iy = 0; iy < n[1]; ++iy)
+      for (int ix = 0; ix < n[0]; ++ix) {
+        const Vec3 c{lo.x + (ix + 0.5) * ((hi.x - lo.x) / n[0]),
+                     lo.y + (iy + 0.5) * ((hi.y - lo.y) / n[1]), lo.z + (iz + 0.5) * spacing};
+        // Half a spacing of margin: a jittered particle at the site stays inside.
+        if (region.contains(c, 0.5 * spacing)) sites.push_back(c);
+      }
+  return sites;
+}
 
 std::unique_ptr<Inserter> make_fill_inserter(std::unique_ptr<Region> region,
                                              std::unique_ptr<SizeDistribution> sizes,

@@ -5,10 +5,12 @@
 #include "dem/insertion/insertion_context.hpp"
 #include "dem/insertion/region.hpp"
 #include "dem/size_distribution.hpp"
+#include "dem/domain.hpp"
 
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace demcal::dem {
 
@@ -65,6 +67,11 @@ struct FillOptions {
   double lattice_gap = 0.05;
   int attempts_per_particle = 400;
 };
+
+// The nominal centres a lattice fill uses (before jitter): how many particles
+// a region can take that way, known before anything runs.
+std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, double lattice_gap,
+                                const Domain& domain);
 
 // Fills a region at one instant; throws when the region cannot hold the amount.
 std::unique_ptr<Inserter> make_fill_inserter(std::unique_ptr<Region> region,

@@ -420,8 +420,9 @@ TEST(ConicalAngleOfRepose, SectorsAgainstAWallAreReportedNotDropped) {
   const Cloud full = cone(35.0, kConeHeight, 1.0, 1300);
   const double cut = 0.35 * kConeHeight / tan_deg(35.0);
   Cloud c;
-  for (std::size_t i = 0; i < full.position_m.size(); ++i)
+  for (std::size_t i = 0; i < full.position_m.size(); ++i) {
     if (full.position_m[i].x < cut) c.add(full.position_m[i]);
+  }
   ConicalAoROptions o;
   o.axis_centre_m = std::array<double, 2>{0.0, 0.0};
   const AngleOfRepose a = measure_conical_angle_of_repose(c.position_m, c.radius_m, o);

@@ -1,0 +1,327 @@
+#include "cli/study_config.hpp"
+
+#include "dem/apparatus/conical_pile.hpp"
+#include "dem/apparatus/rectangular_container.hpp"
+#include "dem/apparatus/sandglass.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace demcal::cli {
+
+using namespace reader;
+
+namespace {
+
+// Whether `key` occurs in `text` as a whole identifier (so that "height_m"
+// does not match inside "upper_height_m").
+std::size_t find_identifier(const std::string& text, const std::string& key) {
+  auto ident = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  for (std::size_t pos = text.find(key); pos != std::string::npos;
+       pos = text.find(key, pos + 1)) {
+    const bool before_ok = pos == 0 || !ident(text[pos - 1]);
+    const std::size_t end = pos + key.size();
+    const bool after_ok = end >= text.size() || !ident(text[end]);
+    if (before_ok && after_ok) return pos;
+  }
+  return std::string::npos;
+}
+
+// Constructing an apparatus checks its geometry against the fill; what it
+// refuses is an input error. It is reported at the key its message names
+// first (keys with an underscore: one-word keys are also plain words) (the one the message is about: "fill_mass_kg = ... needs more than
+// ..."; keys named later are suggested remedies), else at the table.
+template <class F>
+std::unique_ptr<dem::Apparatus> build_guarded(const Table& t, F&& make) {
+  try {
+    return make();
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::logic_error& e) {
+    const std::string message = e.what();
+    std::size_t best = std::string::npos;
+    const std::string* key = nullptr;
+    for (const std::string& k : t.known_keys()) {
+      // One-word keys ("boundary", "slice") are also English words in messages.
+      if (k.find('_') == std::string::npos) continue;
+      const std::size_t pos = find_identifier(message, k);
+      if (pos < best) {
+        best = pos;
+        key = &k;
+      }
+    }
+    if (key != nullptr) t.fail(*key, message);
+    t.fail_here(message);
+  }
+}
+
+dem::ModelReduction read_reduction(Table& t, bool slice_applies) {
+  dem::ModelReduction r;
+  if (slice_applies) {
+    r.slice = t.boolean_or("slice", false);
+    // Left alone without slice so that toggling slice with --set needs no second override.
+    if (t.has("slice_thickness_diameters") || r.slice)
+      r.slice_thickness_diameters =
+          t.number_or("slice_thickness_diameters", r.slice_thickness_diameters, at_least(2));
+  } else {
+    for (const char* k : {"slice", "slice_thickness_diameters"})
+      if (t.contains(k))
+        t.fail(k,
+               "does not apply here: the container's thickness is thickness_m or "
+               "thickness_diameters, its front and rear are `boundary`");
+  }
+  r.coarse_graining_factor = t.number_or("coarse_graining_factor", 1.0, above(0));
+  r.shear_modulus_pa = t.number_or("shear_modulus_pa", 0.0, at_least(0));
+  return r;
+}
+
+const Range kPositive = above(0);
+const Range kHalfAngle = between(0, true, 80, true);
+
+std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m,
+                                               const dem::RunProtocol& p) {
+  dem::SandglassOptions o;
+  o.upper_diameter_m = t.number("upper_diameter_m", kPositive);
+  o.upper_height_m = t.number("upper_height_m", kPositive);
+  o.bottom = t.choice("bottom", {"flat", "conical"});
+  if (o.bottom == "conical" || t.has("hopper_half_angle_deg"))
+    o.hopper_half_angle_deg = t.number("hopper_half_angle_deg", kHalfAngle);
+  o.orifice_diameter_m = t.number("orifice_diameter_m", kPositive);
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.lower_diameter_m = t.number("lower_diameter_m", kPositive);
+  o.drop_height_m = t.number("drop_height_m", kPositive);
+  o.reduction = read_reduction(t, true);
+  t.finish();
+  return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
+}
+
+std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m,
+                                                  const dem::RunProtocol& p) {
+  dem::ConicalPileOptions o;
+  o.funnel_top_diameter_m = t.number("funnel_top_diameter_m", kPositive);
+  o.funnel_outlet_diameter_m = t.number("funnel_outlet_diameter_m", kPositive);
+  o.funnel_half_angle_deg = t.number("funnel_half_angle_deg", kHalfAngle);
+  o.feed_height_m = t.number("feed_height_m", kPositive);
+  o.drop_height_m = t.number("drop_height_m", kPositive);
+  o.base_diameter_m = t.number("base_diameter_m", kPositive);
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.reduction = read_reduction(t, true);
+  t.finish();
+  return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
+}
+
+std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
+                                                           const dem::GranularMaterial& m,
+                                                           const dem::RunProtocol& p) {
+  dem::RectangularContainerOptions o;
+  o.width_m = t.number("width_m", kPositive);
+  o.height_m = t.number("height_m", kPositive);
+  const bool has_m = t.has("thickness_m");
+  const bool has_d = t.has("thickness_diameters");
+  if (!has_m && !has_d)
+    t.fail("thickness_m",
+           "missing required key; expected thickness_m (a number > 0) or thickness_diameters "
+           "(a number > 0)");
+  if (has_m && has_d)
+    t.fail("thickness_diameters", "give thickness_m or thickness_diameters, not both");
+  if (has_m) o.thickness_m = t.number("thickness_m", kPositive);
+  if (has_d) o.thickness_diameters = t.number("thickness_diameters", kPositive);
+  o.boundary = t.choice("boundary", {"walls", "periodic"});
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.inlet_width_m = t.number_or("inlet_width_m", 0.0, at_least(0));
+  o.inlet_height_m = t.number_or("inlet_height_m", 0.0, between(0, false, o.height_m, true));
+  o.inlet_speed_m_s = t.number_or("inlet_speed_m_s", 0.5, kPositive);
+  o.median_band_diameters = t.number_or("median_band_diameters", 2.0, kPositive);
+  o.reduction = read_reduction(t, false);
+  t.finish();
+  return build_guarded(t, [&] { return std::make_unique<dem::RectangularContainer>(o, m, p); });
+}
+
+dem::Material read_named_material(Table& t) {
+  dem::Material m;
+  m.name = t.string("name");
+  if (m.name.empty()) t.fail("name", "expected a non-empty string");
+  read_material_properties(t, m);
+  return m;
+}
+
+}  // namespace
+
+const std::vector<std::string>& known_apparatus_names() {
+  static const std::vector<std::string> names = {"sandglass", "conical_pile",
+                                                 "rectangular_container"};
+  return names;
+}
+
+const OverrideAliases& study_override_aliases() {
+  static const OverrideAliases aliases = {
+      {"mu_s", "interaction.particle_particle.sliding_friction"},
+      {"mu_r", "interaction.particle_particle.rolling_friction"},
+  };
+  return aliases;
+}
+
+bool is_study_config(const ConfigDocument& doc) { return doc.table.contains("apparatus"); }
+
+StudyConfig build_study(ConfigDocument&& doc) {
+  const Context ctx{doc};
+  Table root(ctx, doc.table, "", node_line(doc.table, 1));
+  // Unknown top-level tables first: a misspelt [material] would otherwise be
+  // reported as a missing one.
+  for (const char* k : {"study", "material", "wall_material", "contact", "interaction", "protocol",
+                        "apparatus", "output"})
+    root.has(k);
+  root.finish();
+
+  StudyConfig out;
+  out.file = doc.file;
+  dem::RunProtocol& protocol = out.protocol;
+  const dem::RunProtocol defaults;
+
+  // [study]
+  Table study_t = root.table("study");
+  out.name = read_run_name(study_t, "name");
+  protocol.seed = static_cast<std::uint64_t>(study_t.integer_or(
+      "seed", static_cast<std::int64_t>(defaults.seed), 0, std::numeric_limits<std::int64_t>::max()));
+  protocol.threads = static_cast<int>(study_t.integer_or("threads", defaults.threads, 1, 4096));
+  study_t.finish();
+
+  // [material], [wall_material]
+  dem::GranularMaterial& material = out.material;
+  Table mat_t = root.table("material");
+  material.particle = read_named_material(mat_t);
+  Table size_t_ = mat_t.table("size");
+  material.sizes = read_size(size_t_);
+  mat_t.finish();
+  guarded(mat_t, [&] { material.particle.validate(); });
+
+  Table wall_t = root.table("wall_material");
+  material.wall = read_named_material(wall_t);
+  wall_t.finish();
+  guarded(wall_t, [&] { material.wall.validate(); });
+
+  // [contact]
+  Table con_t = root.table("contact");
+  material.contact = read_contact(con_t);
+  material.restitution_model = read_restitution_model(con_t);
+  con_t.finish();
+
+  // [interaction.particle_particle], [interaction.particle_wall]
+  Table int_t = root.table("interaction");
+  for (const char* pair : {"particle_particle", "particle_wall"}) {
+    Table t = int_t.table(pair);
+    const dem::InteractionParameters p = read_interaction(t);
+    t.finish();
+    guarded(t, [&] { p.validate(t.path() + ": "); });
+    (std::string(pair) == "particle_particle" ? material.particle_particle
+                                              : material.particle_wall) = p;
+  }
+  int_t.finish();
+
+  // [protocol]
+  Table prot_t = root.table_or_empty("protocol");
+  protocol.rest_speed_m_s = prot_t.number_or("rest_speed_m_s", defaults.rest_speed_m_s, kPositive);
+  protocol.check_interval_s =
+      prot_t.number_or("check_interval_s", defaults.check_interval_s, kPositive);
+  protocol.max_settle_s = prot_t.number_or("max_settle_s", defaults.max_settle_s, kPositive);
+  protocol.max_flow_s = prot_t.number_or("max_flow_s", defaults.max_flow_s, kPositive);
+  protocol.sample_interval_s =
+      prot_t.number_or("sample_interval_s", defaults.sample_interval_s, kPositive);
+  protocol.stall_time_s = prot_t.number_or("stall_time_s", defaults.stall_time_s, kPositive);
+  protocol.time_step_fraction_of_rayleigh =
+      prot_t.number_or("time_step_fraction_of_rayleigh", defaults.time_step_fraction_of_rayleigh,
+                       between(0, true, 1, false));
+  prot_t.finish();
+
+  // [apparatus.*]
+  Table app_t = root.table("apparatus");
+  std::vector<std::string> defined;
+  for (const std::string& name : known_apparatus_names())
+    if (app_t.has(name)) defined.push_back(name);
+  app_t.finish();
+  if (defined.empty()) {
+    std::string expected;
+    for (const std::string& n : known_apparatus_names())
+      expected += (expected.empty() ? "[apparatus." : ", [apparatus.") + n + "]";
+    app_t.fail_here("defines no apparatus; expected one or more of " + expected);
+  }
+  for (const std::string& name : defined) {
+    Table t = app_t.table(name);
+    StudyApparatus a;
+    a.name = name;
+    a.line = t.line();
+    if (name == "sandglass")
+      a.apparatus = read_sandglass(t, material, protocol);
+    else if (name == "conical_pile")
+      a.apparatus = read_conical_pile(t, material, protocol);
+    else
+      a.apparatus = read_rectangular_container(t, material, protocol);
+    out.apparatus.push_back(std::move(a));
+  }
+  std::stable_sort(out.apparatus.begin(), out.apparatus.end(),
+                   [](const StudyApparatus& a, const StudyApparatus& b) { return a.line < b.line; });
+
+  // [output]
+  Table out_t = root.table_or_empty("output");
+  if (out_t.has("directory")) {
+    const std::string dir = out_t.string("directory");
+    if (dir.empty()) out_t.fail("directory", "expected a non-empty path");
+    out.output.directory = dir;
+  }
+  out.output.vtk = out_t.boolean_or("vtk", false);
+  out.output.snapshot_interval_s = out_t.number_or("snapshot_interval_s", 0.0, at_least(0));
+  out_t.finish();
+
+  root.finish();
+  out.resolved = std::move(doc.table);
+  return out;
+}
+
+StudyConfig load_study_config(const std::filesystem::path& path,
+                              const std::vector<std::string>& overrides) {
+  ConfigDocument doc = read_config_file(path);
+  for (const auto& o : overrides) apply_override(doc, o, study_override_aliases());
+  return build_study(std::move(doc));
+}
+
+StudyApparatus& select_apparatus(StudyConfig& study, const std::optional<std::string>& requested) {
+  std::vector<std::string> names;
+  for (const StudyApparatus& a : study.apparatus) names.push_back(a.name);
+  if (requested) {
+    for (StudyApparatus& a : study.apparatus)
+      if (a.name == *requested) return a;
+    throw ConfigError(study.file + ": --apparatus " + *requested +
+                      ": the study defines no apparatus \"" + *requested +
+                      "\"; defined: " + quoted_list(names));
+  }
+  if (study.apparatus.size() != 1)
+    throw ConfigError(study.file + ":" + std::to_string(study.apparatus.front().line) +
+                      ": apparatus: the study defines " + std::to_string(names.size()) +
+                      " apparatus (" + quoted_list(names) +
+                      "); choose one with --apparatus NAME");
+  return study.apparatus.front();
+}
+
+std::filesystem::path output_directory(const StudyConfig& study, const std::string& apparatus) {
+  if (!study.output.directory.empty()) return study.output.directory;
+  return std::filesystem::path("out") / study.name / apparatus;
+}
+
+toml::table resolved_for(const StudyConfig& study, const std::string& apparatus) {
+  toml::table t = study.resolved;
+  if (toml::table* apps = t["apparatus"].as_table()) {
+    toml::table only;
+    if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);
+    *apps = std::move(only);
+  }
+  if (toml::table* o = t["output"].as_table())
+    o->insert_or_assign("directory", output_directory(study, apparatus).string());
+  return t;
+}
+
+}  // namespace demcal::cli
