@@ -19,14 +19,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::unique_ptr<Wall> slab_segment(double x0, double z0, double x1, double z1, double depth) {
-  const double len = std::hypot(x1 - x0, z1 - z0);
-  const Vec3 u{(x1 - x0) / len, 0.0, (z1 - z0) / len};
-  const Vec3 n{-u.z, 0.0, u.x};
-  return std::make_unique<RectangleWall>(Vec3{0.5 * (x0 + x1), 0.5 * depth, 0.5 * (z0 + z1)}, n,
-                                         u, 0.5 * len, depth);
-}
-
 }  // namespace
 
 void ConicalPileOptions::validate() const {
@@ -106,10 +98,12 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
             Vec3{0, 0.5 * depth_m_, outlet_height_m_}, Vec3{0, 0, 1}, Vec3{1, 0, 0},
             o_.funnel_outlet_diameter_m, never, rt)),
         w);
-    sim_->add_wall(slab_segment(-ro, outlet_height_m_, -rt, outlet_height_m_ + funnel_h, depth_m_), w);
-    sim_->add_wall(slab_segment(ro, outlet_height_m_, rt, outlet_height_m_ + funnel_h, depth_m_), w);
-    sim_->add_wall(slab_segment(-rt, outlet_height_m_ + funnel_h, -rt, top, depth_m_), w);
-    sim_->add_wall(slab_segment(rt, outlet_height_m_ + funnel_h, rt, top, depth_m_), w);
+    sim_->add_wall(
+        make_slab_segment_wall(-ro, outlet_height_m_, -rt, outlet_height_m_ + funnel_h, depth_m_), w);
+    sim_->add_wall(
+        make_slab_segment_wall(ro, outlet_height_m_, rt, outlet_height_m_ + funnel_h, depth_m_), w);
+    sim_->add_wall(make_slab_segment_wall(-rt, outlet_height_m_ + funnel_h, -rt, top, depth_m_), w);
+    sim_->add_wall(make_slab_segment_wall(rt, outlet_height_m_ + funnel_h, rt, top, depth_m_), w);
   } else {
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, base_height_m_, rc), w);
     sim_->add_wall(std::make_unique<DiskWall>(Vec3{0, 0, base_height_m_}, Vec3{0, 0, 1}, rb), w);

@@ -28,15 +28,6 @@ void require_positive(double v, const char* name) {
   }
 }
 
-// A wall between two points of the xz-plane, spanning the slab in y.
-std::unique_ptr<Wall> slab_segment(double x0, double z0, double x1, double z1, double depth) {
-  const double len = std::hypot(x1 - x0, z1 - z0);
-  const Vec3 u{(x1 - x0) / len, 0.0, (z1 - z0) / len};
-  const Vec3 n{-u.z, 0.0, u.x};  // so that v = n x u is +y
-  return std::make_unique<RectangleWall>(Vec3{0.5 * (x0 + x1), 0.5 * depth, 0.5 * (z0 + z1)}, n,
-                                         u, 0.5 * len, depth);
-}
-
 }  // namespace
 
 void SandglassOptions::validate() const {
@@ -127,11 +118,11 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
             Vec3{0, 0.5 * depth_m_, zo}, Vec3{0, 0, 1}, Vec3{1, 0, 0}, o_.orifice_diameter_m, never)),
         w);
     if (cone_height_m_ > 0.0) {
-      sim_->add_wall(slab_segment(-r0, zo, -ru, zo + cone_height_m_, depth_m_), w);
-      sim_->add_wall(slab_segment(r0, zo, ru, zo + cone_height_m_, depth_m_), w);
+      sim_->add_wall(make_slab_segment_wall(-r0, zo, -ru, zo + cone_height_m_, depth_m_), w);
+      sim_->add_wall(make_slab_segment_wall(r0, zo, ru, zo + cone_height_m_, depth_m_), w);
     }
-    sim_->add_wall(slab_segment(-ru, zo + cone_height_m_, -ru, top_m_, depth_m_), w);
-    sim_->add_wall(slab_segment(ru, zo + cone_height_m_, ru, top_m_, depth_m_), w);
+    sim_->add_wall(make_slab_segment_wall(-ru, zo + cone_height_m_, -ru, top_m_, depth_m_), w);
+    sim_->add_wall(make_slab_segment_wall(ru, zo + cone_height_m_, ru, top_m_, depth_m_), w);
   } else {
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, zo, rl), w);
     orifice_wall_ = sim_->add_wall(

@@ -1,10 +1,10 @@
 #include "dem/wall/bounded_plane_wall.hpp"
 
+#include "dem/wall/wall_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
-#include <stdexcept>
 
 namespace demcal::dem {
 
@@ -12,37 +12,14 @@ namespace {
 
 constexpr int kSegments = 48;
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw std::invalid_argument(where + ": " + what);
-}
-
-Vec3 checked_point(const std::string& where, const Vec3& p, const char* param) {
-  if (!is_finite(p)) fail(where, std::string(param) + " must be finite");
-  return p;
-}
-
-Vec3 checked_unit(const std::string& where, const Vec3& v, const char* param) {
-  if (!is_finite(v) || !(norm2(v) > 0.0)) {
-    std::ostringstream msg;
-    msg << param << " must be a non-zero finite vector (got [" << v.x << ", " << v.y << ", "
-        << v.z << "])";
-    fail(where, msg.str());
-  }
-  return normalized(v);
-}
-
-double checked_positive(const std::string& where, double x, const char* param) {
-  if (!(x > 0.0) || !std::isfinite(x)) {
-    std::ostringstream msg;
-    msg << param << " must be > 0 (got " << x << ")";
-    fail(where, msg.str());
-  }
-  return x;
-}
+using wall_checks::checked_point;
+using wall_checks::checked_positive;
+using wall_checks::checked_unit;
+using wall_checks::fail;
 
 // The in-plane axis with its normal component removed, so callers may pass a
 // roughly in-plane direction.
-Vec3 in_plane_axis(const std::string& where, const Vec3& axis_u, const Vec3& unit_normal) {
+Vec3 in_plane_axis(const char* where, const Vec3& axis_u, const Vec3& unit_normal) {
   const Vec3 u = checked_unit(where, axis_u, "axis_u");
   const Vec3 along = u - dot(u, unit_normal) * unit_normal;
   if (norm(along) < 1e-6) fail(where, "axis_u must not be parallel to normal");
@@ -67,7 +44,7 @@ bool two_sided_contact(const Vec3& c, const Vec3& q, const Vec3& face_normal, do
 
 RectangleWall::RectangleWall(const Vec3& centre_m, const Vec3& normal, const Vec3& axis_u,
                              double half_length_u_m, double half_length_v_m) {
-  const std::string where = "rectangle wall";
+  const char* where = "rectangle wall";
   centre_m_ = checked_point(where, centre_m, "centre_m");
   normal_ = checked_unit(where, normal, "normal");
   axis_u_ = in_plane_axis(where, axis_u, normal_);
@@ -104,7 +81,7 @@ Vec3 RectangleWall::reference_point(double t) const {
 }
 
 DiskWall::DiskWall(const Vec3& centre_m, const Vec3& normal, double radius_m) {
-  const std::string where = "disk wall";
+  const char* where = "disk wall";
   centre_m_ = checked_point(where, centre_m, "centre_m");
   normal_ = checked_unit(where, normal, "normal");
   radius_m_ = checked_positive(where, radius_m, "radius_m");
@@ -137,5 +114,14 @@ SurfaceMesh DiskWall::mesh(double t, const Vec3& /*lo*/, const Vec3& /*hi*/) con
 }
 
 Vec3 DiskWall::reference_point(double t) const { return centre_m_ + motion_.displacement_m(t); }
+
+std::unique_ptr<RectangleWall> make_slab_segment_wall(double x0_m, double z0_m, double x1_m,
+                                                      double z1_m, double depth_m) {
+  const double len = std::hypot(x1_m - x0_m, z1_m - z0_m);
+  const Vec3 u{(x1_m - x0_m) / len, 0.0, (z1_m - z0_m) / len};
+  const Vec3 n{-u.z, 0.0, u.x};  // so that v = n x u is +y
+  return std::make_unique<RectangleWall>(
+      Vec3{0.5 * (x0_m + x1_m), 0.5 * depth_m, 0.5 * (z0_m + z1_m)}, n, u, 0.5 * len, depth_m);
+}
 
 }  // namespace demcal::dem

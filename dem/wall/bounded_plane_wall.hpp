@@ -5,6 +5,8 @@
 
 #include "dem/wall/wall.hpp"
 
+#include <memory>
+
 namespace demcal::dem {
 
 // A rectangle centred on `centre_m` with sides along `axis_u` and
@@ -54,5 +56,11 @@ class DiskWall final : public Wall {
   Vec3 normal_;
   double radius_m_;
 };
+
+// The rectangle between the points (x0_m, z0_m) and (x1_m, z1_m) of the
+// xz-plane, spanning the slab 0 <= y <= depth_m: the side or hopper wall of a
+// periodic slice. The normal is chosen so that v = n × u is +y.
+std::unique_ptr<RectangleWall> make_slab_segment_wall(double x0_m, double z0_m, double x1_m,
+                                                      double z1_m, double depth_m);
 
 }  // namespace demcal::dem

@@ -1,10 +1,10 @@
 #include "dem/wall/cone_wall.hpp"
 
+#include "dem/wall/wall_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
-#include <stdexcept>
 
 namespace demcal::dem {
 
@@ -14,54 +14,17 @@ constexpr int kSegments = 48;
 // A literal, so walls built during static initialization can still throw.
 constexpr char kWhere[] = "cone wall";
 
-[[noreturn]] void fail(const std::string& what) {
-  throw std::invalid_argument(std::string(kWhere) + ": " + what);
-}
-
-Vec3 checked_point(const Vec3& p, const char* param) {
-  if (!is_finite(p)) fail(std::string(param) + " must be finite");
-  return p;
-}
-
-Vec3 checked_unit(const Vec3& v, const char* param) {
-  if (!is_finite(v) || !(norm2(v) > 0.0)) {
-    std::ostringstream msg;
-    msg << param << " must be a non-zero finite vector (got [" << v.x << ", " << v.y << ", "
-        << v.z << "])";
-    fail(msg.str());
-  }
-  return normalized(v);
-}
-
-double checked_positive(double x, const char* param) {
-  if (!(x > 0.0) || !std::isfinite(x)) {
-    std::ostringstream msg;
-    msg << param << " must be > 0 (got " << x << ")";
-    fail(msg.str());
-  }
-  return x;
-}
-
-double checked_non_negative(double x, const char* param) {
-  if (!(x >= 0.0) || !std::isfinite(x)) {
-    std::ostringstream msg;
-    msg << param << " must be >= 0 (got " << x << ")";
-    fail(msg.str());
-  }
-  return x;
-}
-
 }  // namespace
 
 ConeWall::ConeWall(const Vec3& base_m, const Vec3& axis, double length_m, double radius_base_m,
                    double radius_end_m)
-    : base_m_(checked_point(base_m, "base_m")),
-      axis_(checked_unit(axis, "axis")),
-      length_m_(checked_positive(length_m, "length_m")),
-      radius_base_m_(checked_non_negative(radius_base_m, "radius_base_m")),
-      radius_end_m_(checked_non_negative(radius_end_m, "radius_end_m")) {
+    : base_m_(wall_checks::checked_point(kWhere, base_m, "base_m")),
+      axis_(wall_checks::checked_unit(kWhere, axis, "axis")),
+      length_m_(wall_checks::checked_positive(kWhere, length_m, "length_m")),
+      radius_base_m_(wall_checks::checked_non_negative(kWhere, radius_base_m, "radius_base_m")),
+      radius_end_m_(wall_checks::checked_non_negative(kWhere, radius_end_m, "radius_end_m")) {
   if (radius_base_m_ == 0.0 && radius_end_m_ == 0.0)
-    fail("radius_base_m and radius_end_m must not both be 0");
+    wall_checks::fail(kWhere, "radius_base_m and radius_end_m must not both be 0");
 }
 
 bool ConeWall::nearest_point(const Vec3& centre, double range_m, double t,

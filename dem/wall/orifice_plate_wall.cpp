@@ -1,6 +1,7 @@
 #include "dem/wall/orifice_plate_wall.hpp"
 
 #include "dem/wall/plane_wall.hpp"
+#include "dem/wall/wall_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,27 +19,6 @@ constexpr int kSegments = 48;
 // A literal, so walls built during static initialization can still throw.
 constexpr char kWhere[] = "orifice plate wall";
 
-[[noreturn]] void fail(const std::string& what) {
-  throw std::invalid_argument(std::string(kWhere) + ": " + what);
-}
-
-std::string vec_text(const Vec3& v) {
-  std::ostringstream s;
-  s << "[" << v.x << ", " << v.y << ", " << v.z << "]";
-  return s.str();
-}
-
-Vec3 checked_point(const Vec3& p, const char* param) {
-  if (!is_finite(p)) fail(std::string(param) + " must be finite");
-  return p;
-}
-
-Vec3 checked_unit(const Vec3& v, const char* param) {
-  if (!is_finite(v) || !(norm2(v) > 0.0))
-    fail(std::string(param) + " must be a non-zero finite vector (got " + vec_text(v) + ")");
-  return normalized(v);
-}
-
 const char* opening_name(OrificeShape shape) {
   return shape == OrificeShape::circle ? "diameter_m" : "width_m";
 }
@@ -47,7 +27,7 @@ double checked_opening(double x, OrificeShape shape) {
   if (!(x > 0.0) || !std::isfinite(x)) {
     std::ostringstream msg;
     msg << opening_name(shape) << " must be > 0 (got " << x << ")";
-    fail(msg.str());
+    wall_checks::fail(kWhere, msg.str());
   }
   return x;
 }
@@ -56,19 +36,19 @@ double checked_outer_radius(double x, double opening_m, OrificeShape shape) {
   std::ostringstream msg;
   if (!(x >= 0.0) || !std::isfinite(x)) {
     msg << "outer_radius_m must be >= 0, 0 meaning unbounded (got " << x << ")";
-    fail(msg.str());
+    wall_checks::fail(kWhere, msg.str());
   }
   // An outer radius inside the hole would leave no plate once it opens.
   if (x > 0.0 && !(x > 0.5 * opening_m)) {
     msg << "outer_radius_m (" << x << ") must exceed half the " << opening_name(shape) << " ("
         << opening_m << ")";
-    fail(msg.str());
+    wall_checks::fail(kWhere, msg.str());
   }
   return x;
 }
 
 double checked_time(double x) {
-  if (std::isnan(x)) fail("open_time_s must be a number (got nan)");
+  if (std::isnan(x)) wall_checks::fail(kWhere, "open_time_s must be a number (got nan)");
   return x;
 }
 
@@ -77,8 +57,8 @@ double checked_time(double x) {
 OrificePlateWall::OrificePlateWall(const Vec3& centre_m, const Vec3& normal, const Vec3& axis_u,
                                    OrificeShape shape, double opening_m, double open_time_s,
                                    double outer_radius_m)
-    : centre_m_(checked_point(centre_m, "centre_m")),
-      normal_(checked_unit(normal, "normal")),
+    : centre_m_(wall_checks::checked_point(kWhere, centre_m, "centre_m")),
+      normal_(wall_checks::checked_unit(kWhere, normal, "normal")),
       shape_(shape),
       opening_m_(checked_opening(opening_m, shape)),
       open_time_s_(checked_time(open_time_s)),
@@ -86,9 +66,9 @@ OrificePlateWall::OrificePlateWall(const Vec3& centre_m, const Vec3& normal, con
   if (shape == OrificeShape::circle && norm2(axis_u) == 0.0) {
     axis_u_ = any_perpendicular(normal_);
   } else {
-    const Vec3 u = checked_unit(axis_u, "axis_u");
+    const Vec3 u = wall_checks::checked_unit(kWhere, axis_u, "axis_u");
     const Vec3 along = u - dot(u, normal_) * normal_;
-    if (norm(along) < 1e-6) fail("axis_u must not be parallel to normal");
+    if (norm(along) < 1e-6) wall_checks::fail(kWhere, "axis_u must not be parallel to normal");
     axis_u_ = normalized(along);
   }
   axis_v_ = cross(normal_, axis_u_);
@@ -259,7 +239,7 @@ std::vector<double> OrificePlateWall::change_times_s() const {
 
 void OrificePlateWall::set_open_time(double open_time_s) {
   if (std::isnan(open_time_s))
-    throw std::invalid_argument("orifice plate wall: open_time_s must not be NaN");
+    wall_checks::fail(kWhere, "open_time_s must not be NaN");
   open_time_s_ = open_time_s;
 }
 

@@ -1,36 +1,23 @@
 #include "dem/wall/plane_wall.hpp"
 
+#include "dem/wall/wall_checks.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
 #include <utility>
 
 namespace demcal::dem {
 
 namespace {
 
-Vec3 checked_unit(const Vec3& v, const char* param) {
-  if (!is_finite(v) || !(norm2(v) > 0.0)) {
-    std::ostringstream msg;
-    msg << "plane wall: " << param << " must be a non-zero finite vector (got [" << v.x << ", "
-        << v.y << ", " << v.z << "])";
-    throw std::invalid_argument(msg.str());
-  }
-  return normalized(v);
-}
-
-Vec3 checked_point(const Vec3& p, const char* param) {
-  if (!is_finite(p))
-    throw std::invalid_argument(std::string("plane wall: ") + param + " must be finite");
-  return p;
-}
+constexpr char kWhere[] = "plane wall";
 
 }  // namespace
 
 PlaneWall::PlaneWall(const Vec3& point_m, const Vec3& normal)
-    : point_m_(checked_point(point_m, "point_m")), normal_(checked_unit(normal, "normal")) {}
+    : point_m_(wall_checks::checked_point(kWhere, point_m, "point_m")),
+      normal_(wall_checks::checked_unit(kWhere, normal, "normal")) {}
 
 bool PlaneWall::nearest_point(const Vec3& centre, double range_m, double t,
                               WallContactPoint& out) const {
