@@ -172,6 +172,10 @@ void Simulation::prepare() {
 }
 
 void Simulation::run_inserters() {
+  // Asked every step; almost always nothing is due, so nothing is built then.
+  bool any_due = false;
+  for (const auto& ins : inserters_) any_due = any_due || ins->due(time_s_);
+  if (!any_due) return;
   std::vector<const Wall*> walls;
   for (const auto& w : walls_) walls.push_back(w.get());
   for (auto& ins : inserters_) {
