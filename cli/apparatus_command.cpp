@@ -71,12 +71,7 @@ SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocumen
   SimulateOutcome outcome;
   outcome.run_record = run_record_path(dir);
   RunResults& res = outcome.results;
-  std::unique_ptr<dem::VtkSeries> vtk;
-  if (study.output.vtk) {
-    vtk = std::make_unique<dem::VtkSeries>(dir);
-    res.vtk_series = vtk->particles_pvd();
-    res.vtk_walls_series = vtk->walls_pvd();
-  }
+  std::unique_ptr<dem::VtkSeries> vtk = open_vtk_series(dir, study.output.vtk, res);
   const double snap_dt = study.output.snapshot_interval_s;
   ProgressLine progress(progress_stream, options.progress);
 

@@ -191,4 +191,13 @@ void write_run_record(const std::filesystem::path& output_dir, const nlohmann::j
   dem::write_file_atomically(run_record_path(output_dir), record.dump(2) + "\n");
 }
 
+std::unique_ptr<dem::VtkSeries> open_vtk_series(const std::filesystem::path& dir, bool enabled,
+                                                RunResults& results) {
+  if (!enabled) return nullptr;
+  auto vtk = std::make_unique<dem::VtkSeries>(dir);
+  results.vtk_series = vtk->particles_pvd();
+  results.vtk_walls_series = vtk->walls_pvd();
+  return vtk;
+}
+
 }  // namespace demcal::cli

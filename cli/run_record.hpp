@@ -7,12 +7,14 @@
 #include "cli/simulation_config.hpp"
 #include "cli/study_config.hpp"
 #include "dem/apparatus/apparatus.hpp"
+#include "dem/output/vtk_writer.hpp"
 
 #include <toml++/toml.h>
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,10 @@ struct RunResults {
 nlohmann::json toml_to_json(const toml::node& node);
 
 nlohmann::json make_run_record(const SimulationConfig& config, const RunResults& results);
+
+// The VTK series of a run in `dir` when `enabled` (its paths noted in `results`), else null.
+std::unique_ptr<dem::VtkSeries> open_vtk_series(const std::filesystem::path& dir, bool enabled,
+                                                RunResults& results);
 
 // The record of one apparatus run of a study: the same header and results as
 // a plain run (inputs = the study resolved for this apparatus), plus

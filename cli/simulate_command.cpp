@@ -108,12 +108,7 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
   SimulateOutcome outcome;
   outcome.run_record = run_record_path(dir);
   RunResults& res = outcome.results;
-  std::unique_ptr<dem::VtkSeries> vtk;
-  if (cfg.output.vtk) {
-    vtk = std::make_unique<dem::VtkSeries>(dir);
-    res.vtk_series = vtk->particles_pvd();
-    res.vtk_walls_series = vtk->walls_pvd();
-  }
+  std::unique_ptr<dem::VtkSeries> vtk = open_vtk_series(dir, cfg.output.vtk, res);
   const Clock::time_point start = Clock::now();
   ProgressLine progress(progress_stream, options.progress);
   try {

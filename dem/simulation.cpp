@@ -355,7 +355,10 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
 
   double elastic = 0.0;
   std::size_t contacts = 0;
-  std::vector<std::vector<WallLoad>> loads(nthreads, std::vector<WallLoad>(nwalls));
+  // Reused every step: no allocation in the step loop.
+  thread_wall_loads_.resize(nthreads);
+  for (auto& l : thread_wall_loads_) l.assign(nwalls, WallLoad{});
+  auto& loads = thread_wall_loads_;
 
 #pragma omp parallel num_threads(nthreads) reduction(+ : elastic, contacts)
   {

@@ -146,6 +146,7 @@ class Simulation {
   // Per-thread force buffers; summed in thread order so results repeat exactly.
   std::vector<std::vector<Vec3>> thread_force_;
   std::vector<std::vector<Vec3>> thread_torque_;
+  std::vector<std::vector<WallLoad>> thread_wall_loads_;  // [thread][wall]
   std::vector<Vec3> force_before_;   // last step's force, to undo the velocity prediction
   std::vector<Vec3> torque_before_;
 

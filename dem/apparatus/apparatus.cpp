@@ -1,5 +1,9 @@
 #include "dem/apparatus/apparatus.hpp"
 
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
 namespace demcal::dem::protocol {
 
 bool settle(Simulation& sim, const RunProtocol& p, double max_s, const StepObserver& observe,
@@ -39,6 +43,14 @@ SimulationOptions options_for(const GranularMaterial& m, const RunProtocol& p, c
   o.seed = p.seed;
   o.threads = p.threads;
   return o;
+}
+
+void require_positive(const char* apparatus, double value, const char* name) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    std::ostringstream s;
+    s << apparatus << ": " << name << " must be a positive number (got " << value << ")";
+    throw std::invalid_argument(s.str());
+  }
 }
 
 double total_mass_kg(const Particles& particles) {

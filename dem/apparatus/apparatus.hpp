@@ -68,5 +68,9 @@ SimulationOptions options_for(const GranularMaterial& m, const RunProtocol& p, c
 
 double total_mass_kg(const Particles& particles);
 
+// Throws std::invalid_argument "<apparatus>: <name> must be a positive number (got v)"
+// unless value is finite and > 0: the check every apparatus dimension needs.
+void require_positive(const char* apparatus, double value, const char* name);
+
 }  // namespace protocol
 }  // namespace demcal::dem

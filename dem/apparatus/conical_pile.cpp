@@ -22,19 +22,12 @@ constexpr double kPi = std::numbers::pi;
 }  // namespace
 
 void ConicalPileOptions::validate() const {
-  auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) {
-      std::ostringstream s;
-      s << "conical_pile: " << name << " must be positive (got " << v << ")";
-      throw std::invalid_argument(s.str());
-    }
-  };
-  positive(funnel_top_diameter_m, "funnel_top_diameter_m");
-  positive(funnel_outlet_diameter_m, "funnel_outlet_diameter_m");
-  positive(feed_height_m, "feed_height_m");
-  positive(drop_height_m, "drop_height_m");
-  positive(base_diameter_m, "base_diameter_m");
-  positive(fill_mass_kg, "fill_mass_kg");
+  protocol::require_positive("conical_pile", funnel_top_diameter_m, "funnel_top_diameter_m");
+  protocol::require_positive("conical_pile", funnel_outlet_diameter_m, "funnel_outlet_diameter_m");
+  protocol::require_positive("conical_pile", feed_height_m, "feed_height_m");
+  protocol::require_positive("conical_pile", drop_height_m, "drop_height_m");
+  protocol::require_positive("conical_pile", base_diameter_m, "base_diameter_m");
+  protocol::require_positive("conical_pile", fill_mass_kg, "fill_mass_kg");
   if (funnel_outlet_diameter_m >= funnel_top_diameter_m)
     throw std::invalid_argument("conical_pile: funnel_outlet_diameter_m must be below funnel_top_diameter_m");
   if (!(funnel_half_angle_deg > 0.0 && funnel_half_angle_deg < 80.0))

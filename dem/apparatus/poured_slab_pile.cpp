@@ -1,5 +1,7 @@
 #include "dem/apparatus/poured_slab_pile.hpp"
 
+#include "dem/apparatus/apparatus.hpp"
+
 #include "dem/insertion/inserter.hpp"
 #include "dem/insertion/region.hpp"
 #include "dem/size_distribution.hpp"
@@ -60,15 +62,11 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
 
 bool run_until_at_rest(Simulation& sim, double rest_speed_m_s, double max_time_s,
                        double check_interval_s) {
-  double next_check = sim.time_s() + check_interval_s;
-  while (sim.time_s() < max_time_s) {
-    sim.step();
-    if (sim.time_s() >= next_check) {
-      next_check += check_interval_s;
-      if (sim.insertion_finished() && sim.rms_speed_m_s() < rest_speed_m_s) return true;
-    }
-  }
-  return false;
+  RunProtocol p;
+  p.rest_speed_m_s = rest_speed_m_s;
+  p.check_interval_s = check_interval_s;
+  nlohmann::json details;
+  return protocol::settle(sim, p, max_time_s - sim.time_s(), nullptr, "pour", details);
 }
 
 }  // namespace demcal::dem

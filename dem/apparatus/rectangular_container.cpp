@@ -12,17 +12,10 @@
 namespace demcal::dem {
 
 void RectangularContainerOptions::validate() const {
-  auto positive = [](double v, const char* name) {
-    if (!(v > 0.0) || !std::isfinite(v)) {
-      std::ostringstream s;
-      s << "rectangular_container: " << name << " must be positive (got " << v << ")";
-      throw std::invalid_argument(s.str());
-    }
-  };
-  positive(width_m, "width_m");
-  positive(height_m, "height_m");
-  positive(fill_mass_kg, "fill_mass_kg");
-  positive(inlet_speed_m_s, "inlet_speed_m_s");
+  protocol::require_positive("rectangular_container", width_m, "width_m");
+  protocol::require_positive("rectangular_container", height_m, "height_m");
+  protocol::require_positive("rectangular_container", fill_mass_kg, "fill_mass_kg");
+  protocol::require_positive("rectangular_container", inlet_speed_m_s, "inlet_speed_m_s");
   if ((thickness_m > 0.0) == (thickness_diameters > 0.0))
     throw std::invalid_argument(
         "rectangular_container: give exactly one of thickness_m and thickness_diameters (> 0)");

@@ -20,23 +20,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-void require_positive(double v, const char* name) {
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    std::ostringstream s;
-    s << "sandglass: " << name << " must be a positive length in metres (got " << v << ")";
-    throw std::invalid_argument(s.str());
-  }
-}
-
 }  // namespace
 
 void SandglassOptions::validate() const {
-  require_positive(upper_diameter_m, "upper_diameter_m");
-  require_positive(upper_height_m, "upper_height_m");
-  require_positive(orifice_diameter_m, "orifice_diameter_m");
-  require_positive(fill_mass_kg, "fill_mass_kg");
-  require_positive(lower_diameter_m, "lower_diameter_m");
-  require_positive(drop_height_m, "drop_height_m");
+  protocol::require_positive("sandglass", upper_diameter_m, "upper_diameter_m");
+  protocol::require_positive("sandglass", upper_height_m, "upper_height_m");
+  protocol::require_positive("sandglass", orifice_diameter_m, "orifice_diameter_m");
+  protocol::require_positive("sandglass", fill_mass_kg, "fill_mass_kg");
+  protocol::require_positive("sandglass", lower_diameter_m, "lower_diameter_m");
+  protocol::require_positive("sandglass", drop_height_m, "drop_height_m");
   if (bottom != "flat" && bottom != "conical")
     throw std::invalid_argument("sandglass: bottom must be \"flat\" or \"conical\", not \"" +
                                 bottom + "\"");
