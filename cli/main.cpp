@@ -1,6 +1,10 @@
 // demcal command line. Thin on purpose: the logic lives in demcal_cli_lib so
 // tests and other front ends reach it without a process boundary.
 
+#include "cli/calibrate_command.hpp"
+#include "cli/doe_command.hpp"
+#include "cli/mpi_session.hpp"
+#include "cli/fit_command.hpp"
 #include "cli/run_record.hpp"
 #include "cli/simulate_command.hpp"
 #include "cli/simulation_config.hpp"
@@ -8,7 +12,9 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <cstddef>
 #include <cstdio>
+#include <string>
 #include <exception>
 #include <iostream>
 
@@ -48,6 +54,89 @@ int main(int argc, char** argv) {
   simulate_cmd->add_flag("--quiet,-q", sim_opts.quiet,
                          "No progress or summary; only the output paths and errors");
 
+  DoeOptions doe_opts;
+  std::string doe_shard;
+  std::size_t doe_stop_after = 0;
+  CLI::App* doe_cmd = app.add_subcommand(
+      "doe",
+      "Run a study's design of experiments (its [design] table): every design point x "
+      "replicate x apparatus into the run store <output>/<study>/runs/<hash>.json, reusing "
+      "runs already there, then write <output>/<study>/doe.csv and doe.json. Under mpirun the "
+      "runs are split over the ranks");
+  doe_cmd->add_option("study", doe_opts.study, "The study config, with a [design] table (TOML)")
+      ->required();
+  doe_cmd->add_option("--jobs,-j", doe_opts.jobs, "Runs at a time in this process (worker threads)")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  doe_cmd->add_option("--apparatus", doe_opts.apparatus,
+                      "Run only this apparatus of the study (repeatable; default: all)");
+  doe_cmd->add_option("--shard", doe_shard,
+                      "i/N: run only the runs numbered i modulo N (no table; merge the stores "
+                      "and --collect)");
+  doe_cmd->add_option("--output", doe_opts.output_dir,
+                      "Directory holding <study name>/runs and the tables")
+      ->capture_default_str();
+  doe_cmd->add_option("--threads-per-run", doe_opts.threads_per_run,
+                      "OpenMP threads of each run (part of each run's key)")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  doe_cmd->add_option("--set", doe_opts.overrides,
+                      "Override a study value before the design values, as for simulate "
+                      "(repeatable)")
+      ->allow_extra_args(false);
+  doe_cmd->add_flag("--quiet,-q", doe_opts.quiet, "No progress bar or line per run");
+  CLI::Option* dry = doe_cmd->add_flag(
+      "--dry-run", doe_opts.dry_run, "List the runs and which are stored; run and write nothing");
+  CLI::Option* collect = doe_cmd->add_flag(
+      "--collect", doe_opts.collect, "Run nothing; write the tables from the store as it is");
+  collect->excludes(dry);
+  doe_cmd->add_flag("--retry-failed", doe_opts.retry_failed,
+                    "Run again the runs stored as failed");
+  // For testing resumption: stop as if killed after storing N runs.
+  doe_cmd->add_option("--stop-after", doe_stop_after)->group("")->check(CLI::Range(1, 1 << 30));
+
+  FitOptions fit_opts;
+  std::string fit_doe;
+  const auto add_fit_options = [&](CLI::App* cmd) {
+    cmd->add_option("study", fit_opts.study, "The study config, with [design] and [surrogate] tables (TOML)")
+        ->required();
+    cmd->add_option("--output", fit_opts.output_dir, "Directory holding <study name>/ (as for doe)")
+        ->capture_default_str();
+    cmd->add_option("--doe", fit_doe,
+                    "The design table to fit (default: <output>/<study name>/doe.csv), e.g. a "
+                    "checked-in doe.csv");
+    cmd->add_option("--set", fit_opts.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+    cmd->add_flag("--quiet,-q", fit_opts.quiet, "Only the paths of what was written, and warnings");
+  };
+  CLI::App* fit_cmd = app.add_subcommand(
+      "fit",
+      "Fit the study's surrogates ([surrogate] table) to its design table and save them as "
+      "<output>/<study>/surrogates/<apparatus>.<observable>.json");
+  add_fit_options(fit_cmd);
+  CLI::App* inspect_cmd = app.add_subcommand(
+      "inspect",
+      "Write the surrogate inspection report <output>/<study>/reports/inspection/index.html "
+      "(maps, leave-one-out parity and residuals, coefficients, Sobol indices)");
+  add_fit_options(inspect_cmd);
+  CLI::App* calibrate_cmd = app.add_subcommand(
+      "calibrate",
+      "Solve the inverse problem: the parameters that reproduce the study's recordings ([calibration] "
+      "table), with confidence regions, on all recordings and on AoR alone; writes "
+      "<output>/<study>/reports/calibration/index.html");
+  add_fit_options(calibrate_cmd);
+
+  StudyOptions study_opts;
+  CLI::App* study_cmd = app.add_subcommand(
+      "study",
+      "The whole pipeline: doe, fit, inspect, calibrate; resumable, each stage skipped when its inputs "
+      "have not changed");
+  study_cmd->add_option("study", study_opts.doe.study, "The study config (TOML)")->required();
+  study_cmd->add_option("--jobs,-j", study_opts.doe.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
+  study_cmd->add_option("--output", study_opts.doe.output_dir, "Directory holding <study name>/")->capture_default_str();
+  study_cmd->add_option("--set", study_opts.doe.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+  study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
+  study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -59,6 +148,71 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "demcal: error: " << e.what() << " (see demcal --help)\n";
     return 2;
+  }
+
+  if (*study_cmd) {
+    try {
+      study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
+      const auto report = run_study(study_opts, std::cout, std::cerr);
+      return report.empty() ? 1 : 0;
+    } catch (const ConfigError& e) {
+      std::cerr << "demcal: error: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "demcal: error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+
+  if (*fit_cmd || *inspect_cmd || *calibrate_cmd) {
+    try {
+      if (!fit_doe.empty()) fit_opts.doe_csv = fit_doe;
+      if (*fit_cmd)
+        fit(fit_opts, std::cout, std::cerr);
+      else if (*inspect_cmd)
+        inspect(fit_opts, std::cout, std::cerr);
+      else
+        calibrate_study(fit_opts, std::cout, std::cerr);
+    } catch (const ConfigError& e) {
+      std::cerr << "demcal: error: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "demcal: error: " << e.what() << "\n";
+      return 1;
+    }
+    return 0;
+  }
+
+  if (*doe_cmd) {
+    // The MPI session (if any) ends before main returns, whatever happens.
+    MpiSession mpi;
+    const int rank = mpi.group().rank;
+    const std::string who = mpi.group().size > 1 ? "rank " + std::to_string(rank) + ": " : "";
+    try {
+      if (!doe_shard.empty()) doe_opts.shard = parse_shard(doe_shard);
+      if (doe_stop_after > 0) doe_opts.stop_after = doe_stop_after;
+      doe_opts.group = mpi.group();
+      doe_opts.progress = !doe_opts.quiet && mpi.group().size == 1 && isatty(fileno(stderr)) != 0;
+      const DoeOutcome r = run_doe(doe_opts, std::cout, std::cerr);
+      if (doe_opts.dry_run) return 0;
+      if (r.not_run > 0) {
+        std::cerr << "demcal doe: " << who << r.not_run
+                  << " runs were not run; run the same command again to complete the store\n";
+        return 1;
+      }
+      if (r.missing > 0) {
+        std::cerr << "demcal doe: " << r.missing
+                  << " rows of the table have no result in the store yet\n";
+        return 1;
+      }
+    } catch (const ConfigError& e) {
+      std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
+      return 1;
+    }
+    return 0;
   }
 
   try {

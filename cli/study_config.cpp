@@ -1,5 +1,8 @@
 #include "cli/study_config.hpp"
 
+#include "cli/calibration_config.hpp"
+#include "cli/surrogate_config.hpp"
+
 #include "dem/apparatus/conical_pile.hpp"
 #include "dem/apparatus/rectangular_container.hpp"
 #include "dem/apparatus/sandglass.hpp"
@@ -95,6 +98,10 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
   o.lower_diameter_m = t.number("lower_diameter_m", kPositive);
   o.drop_height_m = t.number("drop_height_m", kPositive);
+  o.form_pile = t.boolean_or("form_pile", o.form_pile);
+  o.fill_lattice_spacing_diameters = t.number_or("fill_lattice_spacing_diameters",
+                                                 o.fill_lattice_spacing_diameters,
+                                                 between(1, true, 3, false));
   o.reduction = read_reduction(t, true);
   t.finish();
   return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
@@ -174,7 +181,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // Unknown top-level tables first: a misspelt [material] would otherwise be
   // reported as a missing one.
   for (const char* k : {"study", "material", "wall_material", "contact", "interaction", "protocol",
-                        "apparatus", "output"})
+                        "apparatus", "output", "design", "surrogate", "calibration"})
     root.has(k);
   root.finish();
 
@@ -277,6 +284,13 @@ StudyConfig build_study(ConfigDocument&& doc) {
   out.output.snapshot_interval_s = out_t.number_or("snapshot_interval_s", 0.0, at_least(0));
   out_t.finish();
 
+  // [design]
+  out.design = read_design(ctx, root, doc.table);
+  // [surrogate]
+  out.surrogate = read_surrogate(root);
+  // [calibration]
+  out.calibration = read_calibration(root, doc.file);
+
   root.finish();
   out.resolved = std::move(doc.table);
   return out;
@@ -314,6 +328,9 @@ std::filesystem::path output_directory(const StudyConfig& study, const std::stri
 
 toml::table resolved_for(const StudyConfig& study, const std::string& apparatus) {
   toml::table t = study.resolved;
+  t.erase("design");
+  t.erase("surrogate");
+  t.erase("calibration");
   if (toml::table* apps = t["apparatus"].as_table()) {
     toml::table only;
     if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);

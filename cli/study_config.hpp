@@ -84,6 +84,9 @@
 //   orifice_diameter_m                    # the slice's slot width
 //   fill_mass_kg                          # of the full apparatus; a slice takes its share
 //   lower_diameter_m, drop_height_m       # lower chamber; orifice plane above its floor
+//   form_pile = true                      # opt; false: stop after max_flow_s of discharge,
+//                                         #   no pile, no AoR (flow-rate studies, Beverloo)
+//   fill_lattice_spacing_diameters = 1.05 # opt, (1, 3]: the fill's lattice, in largest diameters
 //
 //   [apparatus.conical_pile]
 //   funnel_top_diameter_m, funnel_outlet_diameter_m, funnel_half_angle_deg (0, 80),
@@ -105,6 +108,23 @@
 //   vtk = false                           # opt; snapshots cost time and disk
 //   snapshot_interval_s = 0.0             # opt, >= 0; 0 = only the final state
 //
+//   [design]                              # opt; the runs of `demcal doe` (cli/design_config.hpp)
+//   kind = "full_factorial"               # "full_factorial" | "latin_hypercube" | "sobol"
+//   points = 20                           # latin_hypercube and sobol only (required there)
+//   replicates = 1                        # opt, >= 1; replicate r runs with seed study.seed + r
+//   seed = 1                              # opt, >= 0; latin_hypercube's generator seed
+//   skip = 0                              # opt, sobol only
+//   parameters = { mu_r = { lower = 0.05, upper = 0.6, levels = 5 }, ... }
+//                                         # any --set key (mu_r, mu_s, "apparatus.x.y");
+//                                         #   lower < upper; levels (>= 2) with full_factorial only
+//   `demcal simulate` accepts and ignores [design]: it runs the study as written.
+//
+//   [surrogate]                           # opt; what `demcal fit` fits (cli/surrogate_config.hpp)
+//   model = "gaussian_process"            # | "polynomial"; further keys per model there
+//
+//   [calibration]                         # opt; what `demcal calibrate` fits (cli/calibration_config.hpp)
+//   recordings = "recordings.csv"         # relative to this file; further keys there
+//
 // Overrides (`--set key=value`) address keys by dotted path as for plain configs
 // (cli/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
 // Two aliases name the calibrated pair the way the paper does:
@@ -112,9 +132,12 @@
 //   --set mu_r=0.3    is   --set interaction.particle_particle.rolling_friction=0.3
 //
 // The resolved config a run records (resolved_for) holds only the apparatus
-// that ran, so two runs of the same apparatus with the same inputs record the
-// same inputs whatever else the study defines.
+// that ran, and no [design], so two runs of the same apparatus with the same
+// inputs record the same inputs whatever else the study defines.
 
+#include "cli/design_config.hpp"
+#include "cli/calibration_config.hpp"
+#include "cli/surrogate_config.hpp"
 #include "cli/simulation_config.hpp"
 #include "cli/toml_reader.hpp"
 #include "dem/apparatus/apparatus.hpp"
@@ -155,6 +178,12 @@ struct StudyConfig {
   // directory is empty unless the file (or --output) gives it: the default
   // depends on the apparatus (output_directory()).
   OutputSettings output;
+  // [design], when the study has one (cli/design_config.hpp).
+  std::optional<DesignConfig> design;
+  // [surrogate], when the study has one (cli/surrogate_config.hpp).
+  std::optional<SurrogateConfig> surrogate;
+  // [calibration], when the study has one (cli/calibration_config.hpp).
+  std::optional<CalibrationConfig> calibration;
   // The whole config after overrides, with every default written in.
   toml::table resolved;
 };

@@ -219,6 +219,49 @@ class Table {
     return fallback;
   }
 
+  // An array of finite numbers; empty when the key is absent (nothing is written in).
+  std::vector<double> numbers_or_empty(std::string_view key) {
+    const toml::node* n = lookup(key);
+    if (n == nullptr) return {};
+    const toml::array* a = n->as_array();
+    if (a == nullptr) fail(key, "expected an array of numbers, got " + describe_value(*n));
+    std::vector<double> out;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const auto v = (*a)[i].value<double>();
+      if (!v || !std::isfinite(*v)) fail(key, "entry " + std::to_string(i) + ": expected a finite number");
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+  // An array of strings, each one of `options` (any string when options is
+  // empty), without repeats; `fallback` when the key is absent.
+  std::vector<std::string> strings_or(std::string_view key, const std::vector<std::string>& options,
+                                      const std::vector<std::string>& fallback) {
+    const toml::node* n = lookup(key);
+    const std::string expected =
+        "an array of strings" + (options.empty() ? std::string() : ", each one of " + quoted_list(options));
+    if (n == nullptr) {
+      toml::array a;
+      for (const auto& f : fallback) a.push_back(f);
+      t_->insert_or_assign(key, std::move(a));
+      return fallback;
+    }
+    const toml::array* a = n->as_array();
+    if (a == nullptr) fail(key, "expected " + expected + ", got " + describe_value(*n));
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const auto v = (*a)[i].value<std::string>();
+      if (!v) fail(key, "entry " + std::to_string(i) + ": expected " + expected);
+      if (!options.empty() && std::find(options.begin(), options.end(), *v) == options.end())
+        fail(key, "entry " + std::to_string(i) + " is \"" + *v + "\"; expected one of " + quoted_list(options));
+      if (std::find(out.begin(), out.end(), *v) != out.end())
+        fail(key, "\"" + *v + "\" is listed twice");
+      out.push_back(*v);
+    }
+    return out;
+  }
+
   Vec3 vec3(std::string_view key) { return as_vec3(require(key, kVec3Text), key); }
   Vec3 vec3_or(std::string_view key, const Vec3& fallback) {
     if (const toml::node* n = lookup(key)) return as_vec3(*n, key);

@@ -51,9 +51,8 @@ double mean_diameter_m(const SizeDistribution& sizes) {
 }
 
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
-                           double density_kg_m3, const Domain& domain) {
-  // FillOptions' default gap; the apparatus fill with it.
-  const std::size_t sites = lattice_sites(region, sizes.max_diameter_m(), FillOptions{}.lattice_gap, domain).size();
+                           double density_kg_m3, const Domain& domain, double lattice_gap) {
+  const std::size_t sites = lattice_sites(region, sizes.max_diameter_m(), lattice_gap, domain).size();
   return static_cast<double>(sites) * density_kg_m3 * std::numbers::pi / 6.0 *
          sizes.mean_diameter_cubed_m3();
 }

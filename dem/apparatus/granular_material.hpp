@@ -5,6 +5,7 @@
 #include "dem/contact/contact_law.hpp"
 #include "dem/contact/pair_coefficients.hpp"
 #include "dem/domain.hpp"
+#include "dem/insertion/inserter.hpp"
 #include "dem/insertion/region.hpp"
 #include "dem/material.hpp"
 #include "dem/size_distribution.hpp"
@@ -46,9 +47,11 @@ std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistrib
 // Volume-equivalent mean diameter, (mean d^3)^(1/3): the "d" in "4 d" and in Beverloo's law.
 double mean_diameter_m(const SizeDistribution& sizes);
 
-// Mass a lattice fill of `region` takes (its sites times the mean particle mass).
+// Mass a lattice fill of `region` takes (its sites times the mean particle
+// mass), for a lattice spaced (1 + lattice_gap) largest diameters.
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
-                           double density_kg_m3, const Domain& domain);
+                           double density_kg_m3, const Domain& domain,
+                           double lattice_gap = FillOptions{}.lattice_gap);
 
 // Adds both materials and both interactions, with the reduction's modulus;
 // returns {particle material index, wall material index}.

@@ -31,6 +31,13 @@ struct SandglassOptions {
   double fill_mass_kg = 0.08;           // of the full apparatus
   double lower_diameter_m = 0.12;
   double drop_height_m = 0.08;          // orifice plane above the lower floor
+  // false: the run ends after max_flow_s of discharge (or when the flow ends)
+  // without letting the pile settle: a flow-rate measurement (Beverloo) needs
+  // only the steady part of m(t), and a deep bed would take far longer to empty.
+  bool form_pile = true;
+  // The fill starts as a jittered cubic lattice of this spacing, in largest
+  // diameters (> 1): denser starts settle sooner; the peers' hopper uses 1.25.
+  double fill_lattice_spacing_diameters = 1.05;
   ModelReduction reduction;
 
   // Throws std::invalid_argument naming the dimension and what it must be.

@@ -117,10 +117,12 @@ std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, dou
   std::array<int, 3> n{};
   for (int k = 0; k < 3; ++k) {
     // Along a periodic axis the lattice must tile the period, or the seam overlaps.
+    // The 1e-6 keeps a length of exactly n spacings (4 sites in a 5 d slab at
+    // 1.25 d) from losing a site to rounding.
     const double extent = hi[k] - lo[k];
-    n[k] = static_cast<int>(std::floor(extent / spacing));
+    n[k] = static_cast<int>(std::floor(extent / spacing + 1e-6));
     if (domain.periodic[k] && std::abs(extent - len[k]) < 1e-12 * len[k])
-      n[k] = static_cast<int>(std::floor(len[k] / spacing));
+      n[k] = static_cast<int>(std::floor(len[k] / spacing + 1e-6));
   }
   std::vector<Vec3> sites;
   // Bottom up, so a partial fill is a settled-looking stack of layers.
@@ -130,7 +132,9 @@ std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, dou
         const Vec3 c{lo.x + (ix + 0.5) * ((hi.x - lo.x) / n[0]),
                      lo.y + (iy + 0.5) * ((hi.y - lo.y) / n[1]), lo.z + (iz + 0.5) * spacing};
         // Half a spacing of margin: a jittered particle at the site stays inside.
-        if (region.contains(c, 0.5 * spacing)) sites.push_back(c);
+        // Less a rounding allowance: a region exactly n spacings wide puts its
+        // outer sites exactly half a spacing from its faces.
+        if (region.contains(c, 0.5 * spacing * (1.0 - 2e-6))) sites.push_back(c);
       }
   return sites;
 }

@@ -1,0 +1,28 @@
+#pragma once
+// What was measured in the laboratory: one value per setup and observable,
+// with its standard uncertainty. (Reading the CSV is the command line's job,
+// cli/recordings_csv.hpp; the calibration sees only these.)
+
+#include <string>
+#include <vector>
+
+namespace demcal::calibrate {
+
+struct Recording {
+  std::string setup;       // the apparatus it was measured on, e.g. "sandglass"
+  std::string observable;  // a stable observable name, e.g. "angle_of_repose_deg"
+  double value = 0.0;      // SI units, as the observable's name says
+  double sigma = 0.0;      // standard uncertainty (> 0), same units
+  std::string unit;        // as written, checked against the observable
+  std::size_t line = 0;    // in the recordings file, for messages
+};
+
+// A measured time series, e.g. m(t) of a discharge (time_s, value).
+struct RecordedSeries {
+  std::string setup;
+  std::string quantity;  // e.g. "discharged_mass_kg"
+  std::vector<double> time_s, value;
+  std::string file;
+};
+
+}  // namespace demcal::calibrate

@@ -1,0 +1,46 @@
+#pragma once
+// The calibration report: one HTML page with the key figure of the study — the
+// (mu_r, mu_s) plane with the measured-AoR and measured-time iso-lines of the
+// surrogates, the 95 % region of the calibration on AoR alone and of the one on
+// AoR and time, and their best points — stated in words beside it (each
+// region's area, their ratio, which parameter each identifies), then the
+// minima with chi-square and residuals, the Gauss-Newton uncertainty, and the
+// MCMC marginals. The CSV/JSON behind every figure is written beside it.
+
+#include "calibrate/calibration.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demcal::calibrate {
+
+struct ReferencePoint {
+  std::string label;  // e.g. "paper (0.3, 0.52)" or "truth"
+  std::vector<double> theta;
+};
+
+struct CalibrationReportOptions {
+  std::string study_name;
+  std::vector<ReferencePoint> references;
+  // Free text (plain) appended under the key figure, e.g. what a verification run gave.
+  std::vector<std::string> remarks;
+};
+
+struct CalibrationReportFiles {
+  std::filesystem::path html, json;
+};
+
+// `alone` may be null (no single-observable comparison); `joint` is the
+// calibration on every recording. Needs 2 parameters for the plane figure
+// (other counts get the tables and marginals only).
+CalibrationReportFiles write_calibration_report(const std::filesystem::path& directory,
+                                                const CalibrationResult* alone,
+                                                const CalibrationResult& joint,
+                                                const CalibrationReportOptions& options);
+
+// "mu_s is identified: its 95 % region spans 0.47-0.58, clear of both bounds" etc.
+std::vector<std::string> identification_statements(const CalibrationResult& r, const std::string& label);
+
+}  // namespace demcal::calibrate

@@ -1,0 +1,47 @@
+#pragma once
+// The surrogate inspection report: one HTML page (index.html) with SVG figures
+// and the CSV/JSON behind each, for the surrogates of one study. It answers
+// "can the calibration trust these models?": how well each predicts runs it
+// was not fitted to (leave-one-out parity and standardized residuals, Q²,
+// RMSE against the DEM's own scatter), what it looks like over the parameter
+// box (maps with the design points), what it is made of (coefficients with
+// standard errors, or hyperparameters), and which parameter drives it (Sobol
+// indices).
+
+#include "surrogate/surrogate_fit.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demcal::calibrate {
+
+struct InspectedSurrogate {
+  std::string setup;  // the apparatus, e.g. "sandglass"
+  surrogate::FittedSurrogate fit;
+  Eigen::MatrixXd design_x;  // the runs' inputs (for the maps)
+};
+
+struct InspectionReportOptions {
+  std::string study_name;
+  std::vector<std::string> parameter_names;
+  std::vector<double> lower, upper;
+  int map_points_per_axis = 81;
+  std::size_t sobol_base_samples = 4096;
+};
+
+struct InspectionReportFiles {
+  std::filesystem::path html;  // <directory>/index.html
+  std::filesystem::path json;  // <directory>/inspection.json: the numbers of every table
+  std::vector<std::string> warnings;
+};
+
+// Writes the report into `directory` (created). Throws std::runtime_error when
+// gnuplot fails, std::invalid_argument on inconsistent inputs.
+InspectionReportFiles write_inspection_report(const std::filesystem::path& directory,
+                                              const std::vector<InspectedSurrogate>& surrogates,
+                                              const InspectionReportOptions& options);
+
+}  // namespace demcal::calibrate

@@ -1,0 +1,219 @@
+#include "cli/calibrate_command.hpp"
+
+#include "calibrate/calibration.hpp"
+#include "calibrate/report/calibration_report.hpp"
+#include "cli/calibration_config.hpp"
+#include "cli/recordings_csv.hpp"
+#include "cli/run_store.hpp"
+#include "cli/simulate_command.hpp"
+#include "cli/study_config.hpp"
+#include "dem/output/atomic_file.hpp"
+#include "surrogate/surrogate_fit.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace demcal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+surrogate::FittedSurrogate load_fit(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file.string() + ": no such surrogate; run `demcal fit` first");
+  try {
+    return surrogate::fitted_surrogate_from_json(nlohmann::json::parse(in));
+  } catch (const std::exception& e) {
+    throw ConfigError(file.string() + ": not a surrogate file (" + e.what() + ")");
+  }
+}
+
+}  // namespace
+
+CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::ostream& log) {
+  StudyConfig study = load_study_config(o.study, o.overrides);
+  if (!study.calibration)
+    throw ConfigError(study.file + ": the study has no [calibration] table (recordings = \"...\")");
+  if (!study.design) throw ConfigError(study.file + ": the study has no [design] table; calibrate needs its bounds");
+  const CalibrationConfig& cc = *study.calibration;
+  std::vector<std::string> setups;
+  for (const auto& a : study.apparatus) setups.push_back(a.name);
+  const auto recordings = read_recordings_csv(cc.recordings, setups);
+
+  std::vector<calibrate::ParameterBounds> params;
+  for (const auto& p : study.design->spec.parameters) params.push_back({p.name, p.lower, p.upper});
+  const fs::path dir = study_directory(o.output_dir, study.name);
+  std::vector<calibrate::Target> all;
+  for (const auto& r : recordings) {
+    const fs::path file = dir / "surrogates" / (r.setup + "." + r.observable + ".json");
+    if (!fs::exists(file))
+      throw ConfigError(cc.recordings.string() + ":" + std::to_string(r.line) + ": " + r.setup + " " + r.observable +
+                        " is recorded but has no surrogate (" + file.string() +
+                        "); add it to [surrogate] observables and run `demcal fit`");
+    const auto fit = load_fit(file);
+    if (fit.model->input_names() != std::vector<std::string>([&] {
+          std::vector<std::string> n;
+          for (const auto& p : params) n.push_back(p.name);
+          return n;
+        }()))
+      throw ConfigError(file.string() + ": the surrogate's inputs differ from the study's [design] parameters; "
+                                        "run `demcal fit` again");
+    calibrate::Target t;
+    t.setup = r.setup;
+    t.observable = r.observable;
+    t.measured = r.value;
+    t.sigma_measured = r.sigma;
+    t.sigma_dem = std::isfinite(fit.scatter.sd) ? fit.scatter.sd : 0.0;
+    t.model = fit.model;
+    all.push_back(t);
+  }
+  calibrate::CalibrationOptions co;
+  co.confidence = cc.confidence;
+  co.grid_points_per_axis = cc.grid_points_per_axis;
+  co.multistart_points = cc.multistart_points;
+  co.mcmc_samples = cc.mcmc_samples;
+  co.mcmc_burn_in = cc.mcmc_burn_in;
+  co.mcmc_chains = cc.mcmc_chains;
+  co.seed = cc.seed;
+  log << "calibrating " << study.name << " on " << all.size() << " recordings ...\n";
+  const auto joint = calibrate::calibrate(params, all, co);
+  std::optional<calibrate::CalibrationResult> alone;
+  std::string alone_name = cc.alone ? *cc.alone : "angle_of_repose_deg";
+  std::vector<calibrate::Target> single;
+  for (const auto& t : all)
+    if (t.observable == alone_name) single.push_back(t);
+  if (!alone_name.empty() && single.size() < all.size() && !single.empty()) {
+    log << "calibrating " << study.name << " on " << alone_name << " alone, for the comparison ...\n";
+    alone = calibrate::calibrate(params, single, co);
+  } else if (cc.alone && !cc.alone->empty() && single.empty()) {
+    throw ConfigError(study.file + ": [calibration] alone = \"" + alone_name + "\" is not among the recordings");
+  }
+
+  calibrate::CalibrationReportOptions ro;
+  ro.study_name = study.name;
+  if (!cc.reference_label.empty()) {
+    if (cc.reference_point.size() != params.size())
+      throw ConfigError(study.file + ": [calibration] reference_point has " + std::to_string(cc.reference_point.size()) +
+                        " values; expected one per [design] parameter (" + std::to_string(params.size()) + ")");
+    ro.references.push_back({cc.reference_label, cc.reference_point});
+  }
+  if (!cc.verify.empty() && !joint.minima.empty()) {
+    SimulateOptions so;
+    so.config = o.study;
+    so.overrides = o.overrides;
+    for (std::size_t i = 0; i < params.size(); ++i) {
+      std::ostringstream s;
+      s.precision(17);
+      s << params[i].name << "=" << joint.minima[0].theta(static_cast<Eigen::Index>(i));
+      so.overrides.push_back(s.str());
+    }
+    so.apparatus = cc.verify;
+    so.output_dir = (dir / "verification" / cc.verify).string();
+    so.overwrite = true;
+    so.quiet = true;
+    log << "verifying: " << cc.verify << " at the calibrated point ...\n";
+    std::ostringstream sink;
+    const auto v = simulate(so, sink, log);
+    std::ostringstream s;
+    s << "Verification: " << cc.verify << " simulated at the calibrated point gives";
+    for (const auto& [k, val] : v.observables.items())
+      if (!val.is_null()) s << " " << k << " = " << val.dump();
+    s << " (" << v.run_record.string() << ").";
+    ro.remarks.push_back(s.str());
+  }
+  const auto files = calibrate::write_calibration_report(dir / "reports" / "calibration", alone ? &*alone : nullptr,
+                                                         joint, ro);
+  for (const auto& n : joint.notes) log << "note: " << n << "\n";
+  out << "calibration report: " << files.html.string() << "\n";
+  return {files.html, files.json};
+}
+
+namespace {
+
+// The digest of a stage's inputs: when it equals the stored one and the
+// stage's outputs exist, the stage is skipped.
+struct Stages {
+  fs::path file;
+  nlohmann::json j = nlohmann::json::object();
+  explicit Stages(fs::path f) : file(std::move(f)) {
+    std::ifstream in(file);
+    if (in) {
+      try {
+        j = nlohmann::json::parse(in);
+      } catch (const std::exception&) {
+        j = nlohmann::json::object();  // unreadable: every stage reruns
+      }
+    }
+  }
+  bool current(const std::string& stage, const std::string& digest) const {
+    return j.contains(stage) && j[stage] == digest;
+  }
+  void done(const std::string& stage, const std::string& digest) {
+    j[stage] = digest;
+    dem::write_file_atomically(file, j.dump(1) + "\n");
+  }
+};
+
+std::string table_text(const toml::table& t, const char* key) {
+  std::ostringstream s;
+  if (const auto* n = t.get(key)) s << toml::toml_formatter(toml::table{{key, *n}});
+  return s.str();
+}
+
+}  // namespace
+
+fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) {
+  const DoeOutcome d = run_doe(o.doe, out, log);
+  if (d.not_run > 0 || d.missing > 0) {
+    log << "demcal study: " << d.not_run + d.missing << " runs are not done; run the same command again\n";
+    return {};
+  }
+  StudyConfig study = load_study_config(o.doe.study, o.doe.overrides);
+  const fs::path dir = study_directory(o.doe.output_dir, study.name);
+  Stages stages(dir / "stages.json");
+  FitOptions fo;
+  fo.study = o.doe.study;
+  fo.overrides = o.doe.overrides;
+  fo.output_dir = o.doe.output_dir;
+  fo.quiet = o.doe.quiet;
+  const std::string doe_csv = slurp(dir / "doe.csv");
+  const std::string fit_digest = sha256_hex(doe_csv + "\n" + table_text(study.resolved, "surrogate") +
+                                            table_text(study.resolved, "design"));
+  if (o.force || !stages.current("fit", fit_digest) || !fs::exists(dir / "surrogates")) {
+    fit(fo, out, log);
+    stages.done("fit", fit_digest);
+    stages.j.erase("inspect");
+    stages.j.erase("calibrate");
+  } else {
+    log << "fit: up to date (doe.csv and [surrogate] unchanged)\n";
+  }
+  const fs::path inspection = dir / "reports" / "inspection" / "index.html";
+  if (o.force || !stages.current("inspect", fit_digest) || !fs::exists(inspection)) {
+    inspect(fo, out, log);
+    stages.done("inspect", fit_digest);
+  } else {
+    log << "inspect: up to date\n";
+    out << "inspection report: " << inspection.string() << "\n";
+  }
+  if (!study.calibration) return inspection;
+  const std::string cal_digest =
+      sha256_hex(fit_digest + table_text(study.resolved, "calibration") + slurp(study.calibration->recordings));
+  const fs::path report = dir / "reports" / "calibration" / "index.html";
+  if (o.force || !stages.current("calibrate", cal_digest) || !fs::exists(report)) {
+    calibrate_study(fo, out, log);
+    stages.done("calibrate", cal_digest);
+  } else {
+    log << "calibrate: up to date (surrogates, [calibration] and recordings unchanged)\n";
+    out << "calibration report: " << report.string() << "\n";
+  }
+  return report;
+}
+
+}  // namespace demcal::cli

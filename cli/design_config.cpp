@@ -1,0 +1,210 @@
+#include "cli/design_config.hpp"
+
+#include "cli/study_config.hpp"
+#include "surrogate/sobol_design.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+#include <limits>
+#include <utility>
+
+namespace demcal::cli {
+
+using namespace reader;
+
+namespace {
+
+constexpr std::int64_t kMaxPoints = 100000;
+constexpr std::int64_t kMaxLevels = 1000;
+constexpr double kMaxFactorialPoints = 1e6;
+
+// A TOML key as it would be written: bare when it can be, else quoted.
+std::string toml_key_text(const std::string& key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+  return bare ? key : "\"" + key + "\"";
+}
+
+std::string first_segment(const std::string& path) {
+  return path.substr(0, std::min(path.find_first_of(".["), path.size()));
+}
+
+
+}  // namespace
+
+std::string without_file_prefix(const std::string& message, const std::string& file) {
+  if (message.compare(0, file.size() + 1, file + ":") != 0) return message;
+  std::size_t pos = file.size() + 1;
+  while (pos < message.size() && message[pos] >= '0' && message[pos] <= '9') ++pos;
+  if (pos < message.size() && message[pos] == ':') ++pos;
+  while (pos < message.size() && message[pos] == ' ') ++pos;
+  return message.substr(pos);
+}
+
+std::string shortest_decimal(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::uint64_t replicate_seed(std::uint64_t study_seed, int replicate) {
+  return study_seed + static_cast<std::uint64_t>(replicate);
+}
+
+std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::table& top) {
+  if (!root.has("design")) return std::nullopt;
+  Table d = root.table("design");
+  toml::table& dt = *top.get("design")->as_table();
+  DesignConfig out;
+  out.line = d.line();
+  surrogate::DesignSpec& spec = out.spec;
+
+  const std::string kind = d.choice("kind", surrogate::design_kind_names());
+  spec.kind = *surrogate::design_kind_from_name(kind);
+  const bool factorial = spec.kind == surrogate::DesignKind::kFullFactorial;
+  const bool sobol = spec.kind == surrogate::DesignKind::kSobol;
+
+  if (factorial) {
+    if (d.contains("points"))
+      d.fail("points",
+             "applies only to kind = \"latin_hypercube\" or \"sobol\"; a full factorial design "
+             "has the product of its parameters' levels");
+  } else {
+    spec.points = static_cast<std::size_t>(d.integer("points", 1, kMaxPoints));
+  }
+  out.replicates = static_cast<int>(d.integer_or("replicates", 1, 1, 1000));
+  spec.seed = static_cast<std::uint64_t>(
+      d.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  if (sobol)
+    spec.skip = static_cast<std::size_t>(d.integer_or("skip", 0, 0, 1000000000));
+  else if (d.contains("skip"))
+    d.fail("skip", "applies only to kind = \"sobol\"");
+
+  Table p = d.table("parameters");
+  toml::table& pt = *dt.get("parameters")->as_table();
+  // In the order written (a TOML table is kept sorted by key).
+  std::vector<std::pair<std::string, toml::node*>> entries;
+  for (auto& [k, v] : pt) entries.emplace_back(std::string(k.str()), &v);
+  std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    const auto& sa = a.second->source().begin;
+    const auto& sb = b.second->source().begin;
+    return sa.line != sb.line ? sa.line < sb.line : sa.column < sb.column;
+  });
+  if (entries.empty())
+    d.fail("parameters",
+           "expected at least one parameter, e.g. parameters = { mu_r = { lower = 0.05, upper = "
+           "0.6" +
+               std::string(factorial ? ", levels = 5" : "") + " } }");
+
+  double factorial_points = 1.0;
+  const OverrideAliases& aliases = study_override_aliases();
+  for (auto& [name, node] : entries) {
+    p.has(name);  // part of the schema: every entry is a parameter
+    const std::size_t line = node_line(*node, p.line());
+    const std::string path_text = p.path() + "." + toml_key_text(name);
+    if (!node->is_table())
+      ctx.raise(line, path_text,
+                "expected a table { lower = ..., upper = ..." +
+                    std::string(factorial ? ", levels = ..." : "") + " }, got " +
+                    describe_value(*node));
+    Table t(ctx, *node->as_table(), path_text, line);
+
+    std::string target = name;
+    if (auto a = aliases.find(name); a != aliases.end()) target = a->second;
+    const std::string head = first_segment(target);
+    if (target.empty() || head.empty())
+      ctx.raise(line, path_text, "expected a key of the study, e.g. mu_r or apparatus.<name>.<key>");
+    if (head == "study")
+      ctx.raise(line, path_text,
+                "cannot vary [study] keys: each replicate's seed is study.seed + replicate, and "
+                "the threads per run are `demcal doe --threads-per-run`");
+    if (head == "output") ctx.raise(line, path_text, "cannot vary [output] keys: they do not change a run");
+    if (head == "design") ctx.raise(line, path_text, "cannot vary the design itself");
+    for (std::size_t i = 0; i < out.parameter_paths.size(); ++i)
+      if (out.parameter_paths[i] == target)
+        ctx.raise(line, path_text,
+                  "sets " + target + ", as parameter \"" + spec.parameters[i].name +
+                      "\" does already");
+
+    surrogate::ParameterRange r;
+    r.name = name;
+    r.lower = t.number("lower", any_number());
+    r.upper = t.number("upper", any_number());
+    if (!(r.upper > r.lower))
+      t.fail("upper", "expected a number > lower (" + format_number(r.lower) + "), got " +
+                          format_number(r.upper));
+    if (factorial) {
+      r.levels = static_cast<int>(t.integer("levels", 2, kMaxLevels));
+      factorial_points *= r.levels;
+    } else if (t.contains("levels")) {
+      t.fail("levels", "applies only to kind = \"full_factorial\"; " + kind +
+                           " designs take the number of points from design.points");
+    }
+    t.finish();
+    spec.parameters.push_back(r);
+    out.parameter_paths.push_back(target);
+    out.parameter_lines.push_back(line);
+  }
+  if (factorial && factorial_points > kMaxFactorialPoints)
+    d.fail("parameters", "the full factorial design has " + format_number(factorial_points) +
+                             " points, more than " + format_number(kMaxFactorialPoints) +
+                             "; use fewer levels or a latin_hypercube or sobol design");
+  if (sobol && spec.parameters.size() > surrogate::kSobolMaxDimensions)
+    d.fail("parameters", "a sobol design takes at most " +
+                             std::to_string(surrogate::kSobolMaxDimensions) + " parameters");
+  p.finish();
+  d.finish();
+  return out;
+}
+
+void apply_design_values(ConfigDocument& doc, const DesignConfig& design,
+                         const std::vector<double>& values, const std::string& origin) {
+  const auto& params = design.spec.parameters;
+  for (std::size_t i = 0; i < params.size() && i < values.size(); ++i)
+    set_config_value(doc, design.parameter_paths[i], toml::value<double>(values[i]),
+                     origin + ": " + params[i].name + " = " + shortest_decimal(values[i]));
+}
+
+StudySource StudySource::read(const std::filesystem::path& path,
+                              std::vector<std::string> overrides) {
+  StudySource s;
+  s.file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) read_config_file(path);  // throws its ConfigError ("cannot open ...")
+  std::ostringstream text;
+  text << in.rdbuf();
+  s.text = text.str();
+  s.overrides = std::move(overrides);
+  return s;
+}
+
+ConfigDocument StudySource::document() const {
+  ConfigDocument doc = parse_config_string(text, file);
+  for (const auto& o : overrides) apply_override(doc, o, study_override_aliases());
+  return doc;
+}
+
+void check_design_bounds(const StudySource& source, const DesignConfig& design) {
+  const auto& params = design.spec.parameters;
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    for (const bool upper : {false, true}) {
+      const double v = upper ? params[i].upper : params[i].lower;
+      const std::string what = std::string(upper ? "upper" : "lower") + " = " + shortest_decimal(v);
+      try {
+        ConfigDocument doc = source.document();
+        set_config_value(doc, design.parameter_paths[i], toml::value<double>(v), "the design");
+        build_study(std::move(doc));
+      } catch (const ConfigError& e) {
+        throw ConfigError(source.file + ":" + std::to_string(design.parameter_lines[i]) +
+                          ": design.parameters." + toml_key_text(params[i].name) + ": " + what +
+                          " is refused: " + without_file_prefix(e.what(), source.file));
+      }
+    }
+  }
+}
+
+}  // namespace demcal::cli

@@ -1,0 +1,110 @@
+#pragma once
+// `demcal doe`: runs every design point x replicate x apparatus of a study
+// (its [design] table, cli/design_config.hpp) into the run store
+// (cli/run_store.hpp) and writes the campaign's table (cli/doe_table.hpp).
+//
+//   <output>/<study name>/runs/<hash>.json   one run record per distinct run
+//   <output>/<study name>/doe.csv, doe.json  the table (not by a shard)
+// <output> is --output, else "out" (as `demcal simulate` writes
+// out/<study>/<apparatus>); the study's [output] directory names one run's
+// directory and is not used here, nor VTK output.
+//
+// Execution. Runs execute inside this process on `jobs` worker threads, each
+// running one simulation at a time with `threads_per_run` OpenMP threads (the
+// engine keeps no global mutable state; a worker sets its own OpenMP default).
+// A run record is the one `demcal simulate` writes for the apparatus plus a
+// "design" block (point, replicate, seed, parameters, hash, digest, status);
+// it is stored atomically the moment the run ends. A run that fails
+// (dem::InstabilityError, ...) is stored with status "failed" and its message
+// and is not run again unless retry_failed.
+//
+// Resuming: runs already in the store are reused, not rerun; an interrupted
+// run left nothing but possibly a temporary file, which is never read and is
+// cleaned up (run_store.hpp). So a campaign killed at any moment and started
+// again ends with the same store as one never interrupted.
+//
+// Splitting: the distinct runs are numbered in plan order (cli/doe_plan.hpp);
+// shard i/N takes those with number % N == i, and within a shard, MPI rank r of
+// size s takes every s-th (position % s == r). Shards write no table: copy
+// their run directories together (or share one) and use collect. Under MPI
+// every rank runs its share on its own threads, all ranks then agree (a
+// collective that is also a barrier) and rank 0 writes the table.
+//
+// Determinism: a run's result depends only on its key (inputs, seed, threads
+// per run), never on jobs, shards or ranks.
+
+#include "cli/doe_plan.hpp"
+
+#include <atomic>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace demcal::cli {
+
+// The processes a campaign is split over: MPI's world, or just this process.
+struct ProcessGroup {
+  int rank = 0;
+  int size = 1;
+  // Collective: blocks until every process calls it, then says whether every
+  // one passed true. Empty for a single process.
+  std::function<bool(bool)> all_true;
+
+  bool agree(bool ok) const { return all_true ? all_true(ok) : ok; }
+};
+
+struct Shard {
+  std::size_t index = 0;
+  std::size_t count = 1;
+};
+
+// "i/N" with 0 <= i < N; ConfigError otherwise.
+Shard parse_shard(const std::string& text);
+
+struct DoeOptions {
+  std::filesystem::path study;
+  std::vector<std::string> overrides;  // --set, applied before the design values
+  int jobs = 2;                        // worker threads
+  std::vector<std::string> apparatus;  // empty: every apparatus of the study
+  std::optional<Shard> shard;
+  std::filesystem::path output_dir = "out";
+  int threads_per_run = 1;
+  bool quiet = false;     // no line per run
+  bool progress = false;  // a progress bar on `log` (a terminal) instead of lines per run
+  bool dry_run = false;   // list the runs and what the store holds; write nothing
+  bool collect = false;   // run nothing; write the table from the store
+  bool retry_failed = false;
+  // Testing resumption: store at most this many runs, then stop as if killed
+  // (runs in progress are abandoned without a trace).
+  std::optional<std::size_t> stop_after;
+  // Set from elsewhere to stop the same way (runs in progress are abandoned).
+  const std::atomic<bool>* cancel = nullptr;
+  ProcessGroup group;
+};
+
+struct DoeOutcome {
+  std::filesystem::path study_dir;  // <output>/<study name>
+  std::filesystem::path runs_dir;
+  std::filesystem::path table_csv;  // empty when no table was written
+  std::filesystem::path table_json;
+  std::size_t rows = 0;      // design points x replicates x apparatus
+  std::size_t runs = 0;      // distinct runs in the plan
+  std::size_t assigned = 0;  // this process's share (shard, rank)
+  std::size_t reused = 0;    // of the share: already in the store
+  std::size_t executed = 0;  // run and stored now
+  std::size_t failed = 0;    // of the executed: stored as failed
+  std::size_t not_run = 0;   // of the share: left undone (stopped, cancelled, an error)
+  std::size_t missing = 0;   // table rows without a result (when a table was written)
+  std::vector<std::string> executed_hashes;  // in the order stored
+  bool complete() const { return not_run == 0 && missing == 0; }
+};
+
+// Throws ConfigError for input problems (before anything runs or is written)
+// and other exceptions when the store cannot be written.
+DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& log);
+
+}  // namespace demcal::cli

@@ -1,0 +1,119 @@
+#include "cli/doe_csv.hpp"
+
+#include "cli/run_record.hpp"
+#include "cli/toml_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+namespace demcal::cli {
+namespace {
+
+[[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& what) {
+  throw ConfigError(file + ":" + std::to_string(line) + ": " + what);
+}
+
+double parse_number(const std::string& text, const std::string& file, std::size_t line, const std::string& column) {
+  if (text.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v))
+    fail(file, line, "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
+  return v;
+}
+
+}  // namespace
+
+int DoeCsv::observable_index(const std::string& name) const {
+  const auto it = std::find(observable_names.begin(), observable_names.end(), name);
+  return it == observable_names.end() ? -1 : static_cast<int>(it - observable_names.begin());
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        out.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        out.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.emplace_back();
+    } else if (c != '\r') {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+DoeCsv read_doe_csv(const std::filesystem::path& path) {
+  DoeCsv t;
+  t.file = path.string();
+  std::ifstream in(path);
+  if (!in) throw ConfigError(t.file + ": cannot open the design table (run `demcal doe` first, or give --doe FILE)");
+  std::string line;
+  if (!std::getline(in, line)) fail(t.file, 1, "empty file; expected a header line");
+  const auto header = split_csv_line(line);
+  const auto col = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) fail(t.file, 1, "the header has no column \"" + name + "\"");
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t c_point = col("point"), c_rep = col("replicate"), c_seed = col("seed"),
+                    c_app = col("apparatus"), c_status = col("status"), c_hash = col("hash");
+  std::vector<std::size_t> c_obs;
+  for (const auto& name : stable_observable_names()) {
+    c_obs.push_back(col(name));
+    t.observable_names.push_back(name);
+  }
+  const std::size_t first_obs = *std::min_element(c_obs.begin(), c_obs.end());
+  if (first_obs <= c_app + 1) fail(t.file, 1, "no parameter columns between \"apparatus\" and the observables");
+  std::vector<std::size_t> c_par;
+  for (std::size_t c = c_app + 1; c < first_obs; ++c) {
+    c_par.push_back(c);
+    t.parameter_names.push_back(header[c]);
+  }
+  std::size_t n = 1;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty() || line == "\r") continue;
+    const auto f = split_csv_line(line);
+    if (f.size() != header.size())
+      fail(t.file, n, "expected " + std::to_string(header.size()) + " fields like the header, got " +
+                          std::to_string(f.size()));
+    DoeCsvRow r;
+    r.line = n;
+    r.point = static_cast<int>(parse_number(f[c_point], t.file, n, "point"));
+    r.replicate = static_cast<int>(parse_number(f[c_rep], t.file, n, "replicate"));
+    r.seed = static_cast<std::uint64_t>(parse_number(f[c_seed], t.file, n, "seed"));
+    r.apparatus = f[c_app];
+    for (std::size_t k = 0; k < c_par.size(); ++k) {
+      const double v = parse_number(f[c_par[k]], t.file, n, t.parameter_names[k]);
+      if (std::isnan(v)) fail(t.file, n, "column " + t.parameter_names[k] + ": a parameter value is required");
+      r.parameters.push_back(v);
+    }
+    for (std::size_t k = 0; k < c_obs.size(); ++k)
+      r.observables.push_back(parse_number(f[c_obs[k]], t.file, n, t.observable_names[k]));
+    r.status = f[c_status];
+    r.hash = f[c_hash];
+    t.rows.push_back(std::move(r));
+  }
+  return t;
+}
+
+}  // namespace demcal::cli

@@ -1,0 +1,182 @@
+#include "cli/fit_command.hpp"
+
+#include "calibrate/report/inspection_report.hpp"
+#include "cli/doe_csv.hpp"
+#include "cli/study_config.hpp"
+#include "cli/surrogate_config.hpp"
+#include "dem/output/atomic_file.hpp"
+#include "surrogate/surrogate_fit.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace demcal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Campaign {
+  StudyConfig study;
+  DoeCsv table;
+  fs::path dir;
+  std::vector<double> lower, upper;
+};
+
+Campaign load_campaign(const FitOptions& o) {
+  Campaign c{load_study_config(o.study, o.overrides), {}, {}, {}, {}};
+  c.dir = study_directory(o.output_dir, c.study.name);
+  c.table = read_doe_csv(o.doe_csv ? *o.doe_csv : c.dir / "doe.csv");
+  // The design box comes from the study's [design]: the surrogates are valid
+  // inside it, and the calibration searches it.
+  if (!c.study.design)
+    throw ConfigError(c.study.file + ": the study has no [design] table; fit needs its parameter bounds");
+  const auto& params = c.study.design->spec.parameters;
+  if (params.size() != c.table.parameter_names.size())
+    throw ConfigError(c.table.file + ": " + std::to_string(c.table.parameter_names.size()) +
+                      " parameter columns, but the study's [design] has " + std::to_string(params.size()));
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    if (params[k].name != c.table.parameter_names[k])
+      throw ConfigError(c.table.file + ":1: parameter column " + std::to_string(k + 1) + " is \"" +
+                        c.table.parameter_names[k] + "\", the study's [design] has \"" + params[k].name + "\"");
+    c.lower.push_back(params[k].lower);
+    c.upper.push_back(params[k].upper);
+  }
+  return c;
+}
+
+// The runs of one apparatus and one observable, replicates grouped by point.
+surrogate::ReplicatedData data_for(const Campaign& c, const std::string& apparatus, int observable) {
+  surrogate::ReplicatedData d;
+  d.input_names = c.table.parameter_names;
+  d.lower = c.lower;
+  d.upper = c.upper;
+  d.output_name = c.table.observable_names[static_cast<std::size_t>(observable)];
+  std::vector<const DoeCsvRow*> rows;
+  for (const auto& r : c.table.rows)
+    if (r.apparatus == apparatus && r.status == "ok") rows.push_back(&r);
+  const auto p = static_cast<Eigen::Index>(d.input_names.size());
+  d.x.resize(static_cast<Eigen::Index>(rows.size()), p);
+  d.y.resize(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    for (Eigen::Index j = 0; j < p; ++j) d.x(k, j) = rows[i]->parameters[static_cast<std::size_t>(j)];
+    d.y(k) = rows[i]->observables[static_cast<std::size_t>(observable)];
+    d.group.push_back(rows[i]->point);
+  }
+  return d;
+}
+
+std::set<std::string> apparatus_in(const DoeCsv& t) {
+  std::set<std::string> a;
+  for (const auto& r : t.rows) a.insert(r.apparatus);
+  return a;
+}
+
+fs::path surrogate_file(const fs::path& dir, const std::string& apparatus, const std::string& observable) {
+  return dir / "surrogates" / (apparatus + "." + observable + ".json");
+}
+
+}  // namespace
+
+fs::path study_directory(const fs::path& output_dir, const std::string& study_name) {
+  return output_dir / study_name;
+}
+
+FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
+  Campaign c = load_campaign(o);
+  const SurrogateConfig config = c.study.surrogate ? *c.study.surrogate : SurrogateConfig{};
+  FitOutcome outcome;
+  std::size_t failed_rows = 0, missing_rows = 0;
+  for (const auto& r : c.table.rows) {
+    failed_rows += r.status == "failed";
+    missing_rows += r.status == "missing";
+  }
+  if (failed_rows + missing_rows > 0)
+    outcome.warnings.push_back(c.table.file + ": " + std::to_string(failed_rows) + " failed and " +
+                               std::to_string(missing_rows) + " missing runs are left out of the fit");
+  for (const auto& apparatus : apparatus_in(c.table)) {
+    for (std::size_t k = 0; k < c.table.observable_names.size(); ++k) {
+      const std::string& name = c.table.observable_names[k];
+      const bool requested = config.observables.empty() ||
+                             std::find(config.observables.begin(), config.observables.end(), name) !=
+                                 config.observables.end();
+      if (!requested) continue;
+      auto data = data_for(c, apparatus, static_cast<int>(k));
+      std::size_t finite = 0;
+      for (Eigen::Index i = 0; i < data.y.size(); ++i) finite += std::isfinite(data.y(i));
+      if (finite == 0) {
+        if (!config.observables.empty())
+          throw ConfigError(c.study.file + ": [surrogate] observables lists " + name + ", but no run of " +
+                            apparatus + " in " + c.table.file + " measured it");
+        continue;  // this apparatus does not measure it
+      }
+      surrogate::FittedSurrogate f;
+      try {
+        f = surrogate::fit_surrogate(data, config.spec);
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(c.table.file + ": " + apparatus + ": " + e.what());
+      }
+      const fs::path file = surrogate_file(c.dir, apparatus, name);
+      fs::create_directories(file.parent_path());
+      nlohmann::json j = f.to_json();
+      j["setup"] = apparatus;
+      j["study"] = c.study.name;
+      j["doe_csv"] = c.table.file;
+      dem::write_file_atomically(file, j.dump(1) + "\n");
+      outcome.files.push_back(file);
+      if (!f.scatter_check.within_scatter) outcome.warnings.push_back(f.scatter_check.message);
+      if (!o.quiet) {
+        std::ostringstream s;
+        s << apparatus << " " << name << ": " << f.model->description() << "; " << f.runs << " runs at "
+          << f.scatter.points << " points; LOO RMSE " << f.validation.rmse << ", Q2 " << f.validation.q_squared
+          << "; DEM scatter sd " << f.scatter.sd;
+        log << s.str() << "\n";
+      }
+    }
+  }
+  if (outcome.files.empty()) throw ConfigError(c.table.file + ": no observable with data to fit");
+  for (const auto& w : outcome.warnings) log << "warning: " << w << "\n";
+  for (const auto& f : outcome.files) out << "surrogate: " << f.string() << "\n";
+  return outcome;
+}
+
+fs::path inspect(const FitOptions& o, std::ostream& out, std::ostream& log) {
+  Campaign c = load_campaign(o);
+  std::vector<calibrate::InspectedSurrogate> list;
+  const fs::path sdir = c.dir / "surrogates";
+  if (!fs::is_directory(sdir)) throw ConfigError(sdir.string() + ": no surrogates; run `demcal fit` first");
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(sdir))
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& file : files) {
+    std::ifstream in(file);
+    nlohmann::json j;
+    try {
+      in >> j;
+    } catch (const nlohmann::json::exception& e) {
+      throw ConfigError(file.string() + ": not a surrogate file (" + e.what() + ")");
+    }
+    calibrate::InspectedSurrogate s;
+    s.setup = j.value("setup", "");
+    s.fit = surrogate::fitted_surrogate_from_json(j);
+    const auto data = data_for(c, s.setup, c.table.observable_index(s.fit.output_name));
+    s.design_x = data.x;
+    list.push_back(std::move(s));
+  }
+  if (list.empty()) throw ConfigError(sdir.string() + ": no surrogates; run `demcal fit` first");
+  calibrate::InspectionReportOptions ro;
+  ro.study_name = c.study.name;
+  ro.parameter_names = c.table.parameter_names;
+  ro.lower = c.lower;
+  ro.upper = c.upper;
+  const auto files_out = calibrate::write_inspection_report(c.dir / "reports" / "inspection", list, ro);
+  for (const auto& w : files_out.warnings) log << "warning: " << w << "\n";
+  out << "inspection report: " << files_out.html.string() << "\n";
+  return files_out.html;
+}
+
+}  // namespace demcal::cli

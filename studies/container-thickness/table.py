@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Table of the container-thickness sweep: AoR versus t/d for walls and periodic
+boundaries (mean, seed standard deviation, n), and the critical thickness of each.
+
+Critical-thickness rule: the thickest point is the thick limit. A thickness
+t is "within the noise" of it when |AoR(t) - AoR(thick)| <= 2 * sqrt(se_t^2 +
+se_thick^2) (se = seed standard deviation / sqrt(n)), with the seed standard
+deviation pooled over the sweep for a stable estimate. The critical thickness is
+the smallest t from which every thicker point is within the noise.
+
+usage: table.py OUTDIR   (the directory run_thickness_sweep.sh wrote)"""
+import json, math, pathlib, re, sys
+from collections import defaultdict
+
+out = pathlib.Path(sys.argv[1])
+rows = defaultdict(list)
+failed = []
+for f in sorted(out.glob("*_t*_s*/run.json")):
+    m = re.match(r"(walls|periodic)_t([0-9.]+)_s(\d+)$", f.parent.name)
+    if not m:
+        continue
+    r = json.load(open(f))
+    aor = r["observables"].get("angle_of_repose_deg")
+    if aor is None:
+        failed.append((f.parent.name, r["details"].get("angle_of_repose_error", "?")[:90]))
+        continue
+    rows[(m[1], float(m[2]))].append(aor)
+
+def stats(v):
+    n = len(v); mu = sum(v) / n
+    sd = math.sqrt(sum((x - mu) ** 2 for x in v) / (n - 1)) if n > 1 else float("nan")
+    return mu, sd, n
+
+result = {}
+print("| boundary | t/d | AoR mean (deg) | seed sd (deg) | n | seeds |")
+print("|---|---|---|---|---|---|")
+for b in ("walls", "periodic"):
+    ts = sorted(t for (bb, t) in rows if bb == b)
+    if not ts:
+        continue
+    pooled = [stats(rows[(b, t)])[1] for t in ts if len(rows[(b, t)]) > 1]
+    sd_pool = math.sqrt(sum(s * s for s in pooled) / len(pooled)) if pooled else float("nan")
+    for t in ts:
+        mu, sd, n = stats(rows[(b, t)])
+        print(f"| {b} | {t:g} | {mu:.1f} | {sd:.1f} | {n} | {', '.join(f'{x:.1f}' for x in rows[(b, t)])} |")
+    ref_mu, _, ref_n = stats(rows[(b, ts[-1])])
+    crit = ts[-1]
+    for t in reversed(ts):
+        mu, _, n = stats(rows[(b, t)])
+        tol = 2.0 * sd_pool * math.sqrt(1.0 / n + 1.0 / ref_n)
+        if abs(mu - ref_mu) <= tol:
+            crit = t
+        else:
+            break
+    result[b] = dict(thick_limit_deg=ref_mu, thick_limit_t_d=ts[-1], pooled_seed_sd_deg=sd_pool,
+                     critical_thickness_d=crit)
+print()
+paper = {"walls": 32, "periodic": 4}
+for b, v in result.items():
+    print(f"{b}: thick limit {v['thick_limit_deg']:.1f} deg at t = {v['thick_limit_t_d']:g} d, pooled seed sd "
+          f"{v['pooled_seed_sd_deg']:.2f} deg; critical thickness {v['critical_thickness_d']:g} d "
+          f"(paper: {paper[b]} d)")
+for name, why in failed:
+    print(f"no AoR: {name}: {why}")
+json.dump({"points": {f"{b}_t{t:g}": v for (b, t), v in rows.items()}, "critical": result},
+          open(out / "container_thickness.json", "w"), indent=1)
