@@ -35,6 +35,15 @@ surrogate::FittedSurrogate load_fit(const fs::path& file) {
   }
 }
 
+std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& params, const Eigen::VectorXd& theta) {
+  std::ostringstream s;
+  s << "(";
+  for (std::size_t i = 0; i < params.size(); ++i)
+    s << (i ? ", " : "") << params[i].name << " = " << theta(static_cast<Eigen::Index>(i));
+  s << ")";
+  return s.str();
+}
+
 }  // namespace
 
 CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::ostream& log) {
@@ -105,24 +114,25 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
     ro.references.push_back({cc.reference_label, cc.reference_point});
   }
   if (!cc.verify.empty() && !joint.minima.empty()) {
+    // Another study's apparatus at the calibrated point: the paper verified
+    // its pair on a conical pile, a test outside the calibration's design.
     SimulateOptions so;
-    so.config = o.study;
-    so.overrides = o.overrides;
+    so.config = cc.verify;
     for (std::size_t i = 0; i < params.size(); ++i) {
       std::ostringstream s;
       s.precision(17);
       s << params[i].name << "=" << joint.minima[0].theta(static_cast<Eigen::Index>(i));
       so.overrides.push_back(s.str());
     }
-    so.apparatus = cc.verify;
-    so.output_dir = (dir / "verification" / cc.verify).string();
+    so.output_dir = (dir / "verification" / cc.verify.parent_path().filename()).string();
     so.overwrite = true;
     so.quiet = true;
-    log << "verifying: " << cc.verify << " at the calibrated point ...\n";
+    log << "verifying: " << cc.verify.string() << " at the calibrated point ...\n";
     std::ostringstream sink;
     const auto v = simulate(so, sink, log);
     std::ostringstream s;
-    s << "Verification: " << cc.verify << " simulated at the calibrated point gives";
+    s << "Verification: " << cc.verify.string() << " simulated at the calibrated point "
+      << theta_text_plain(params, joint.minima[0].theta) << " gives";
     for (const auto& [k, val] : v.observables.items())
       if (!val.is_null()) s << " " << k << " = " << val.dump();
     s << " (" << v.run_record.string() << ").";

@@ -6,10 +6,10 @@
 // makes, on one observable alone (AoR by default), and writes
 //   <output>/<study>/reports/calibration/index.html   the report (key figure)
 //   <output>/<study>/reports/calibration/calibration.json
-// With [calibration] verify = "<apparatus>", it then simulates that apparatus
-// at the calibrated pair (the paper's conical-pile verification) into
-// <output>/<study>/verification/<apparatus>/run.json and adds its observables
-// to the report.
+// With [calibration] verify = "<study config>", it then simulates that study's
+// apparatus at the calibrated point (the paper's conical-pile verification)
+// into <output>/<study>/verification/<config stem>/run.json and adds its
+// observables to the report.
 //
 // `demcal study <study.toml>`: the whole pipeline in one command — doe, fit,
 // inspect, calibrate — each stage skipped when its inputs have not changed

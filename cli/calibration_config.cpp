@@ -26,7 +26,12 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
   c.mcmc_burn_in = static_cast<int>(t.integer_or("mcmc_burn_in", 4000, 0, 10000000));
   c.mcmc_chains = static_cast<int>(t.integer_or("mcmc_chains", 2, 1, 16));
   c.seed = static_cast<std::uint64_t>(t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
-  c.verify = t.string_or("verify", "");
+  const std::string verify = t.string_or("verify", "");
+  if (!verify.empty()) {
+    const std::filesystem::path v(verify);
+    c.verify = v.is_absolute() ? v : std::filesystem::path(study_file).parent_path() / v;
+    if (!std::filesystem::exists(c.verify)) t.fail("verify", "no such study config: " + c.verify.string());
+  }
   c.reference_label = t.string_or("reference_label", "");
   c.reference_point = t.numbers_or_empty("reference_point");
   if (c.reference_label.empty() != c.reference_point.empty())

@@ -13,8 +13,9 @@
 //   mcmc_burn_in = 4000
 //   mcmc_chains = 2                   # 1..16
 //   seed = 1                          # starts and MCMC
-//   verify = ""                       # opt: an apparatus of the study to simulate at the
-//                                     #   calibrated pair (the paper's conical-pile check)
+//   verify = ""                       # opt: a study config (relative to this file) whose
+//                                     #   apparatus is simulated at the calibrated point, e.g.
+//                                     #   the paper's conical-pile check; "" = none
 //   reference_label = "paper"         # opt: a point drawn on the key figure, e.g. the
 //   reference_point = [0.3, 0.52]     #   paper's pair or the truth of synthetic recordings
 //                                     #   (one value per [design] parameter, in its order)
@@ -39,7 +40,7 @@ struct CalibrationConfig {
   int mcmc_burn_in = 4000;
   int mcmc_chains = 2;
   std::uint64_t seed = 1;
-  std::string verify;
+  std::filesystem::path verify;  // resolved against the study file's directory; empty = none
   std::string reference_label;
   std::vector<double> reference_point;
 };
