@@ -17,19 +17,24 @@ namespace {
 
 double parse_number(const std::string& text, const std::string& file, std::size_t line, const std::string& column) {
   if (text.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto v = parse_csv_number(text);
+  if (!v) fail(file, line, "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
+  return *v;
+}
+
+}  // namespace
+
+std::optional<double> parse_csv_number(const std::string& text) {
   std::size_t used = 0;
   double v = 0.0;
   try {
     v = std::stod(text, &used);
   } catch (const std::exception&) {
-    used = 0;
+    return std::nullopt;
   }
-  if (used != text.size() || !std::isfinite(v))
-    fail(file, line, "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
+  if (used != text.size() || !std::isfinite(v)) return std::nullopt;
   return v;
 }
-
-}  // namespace
 
 int DoeCsv::observable_index(const std::string& name) const {
   const auto it = std::find(observable_names.begin(), observable_names.end(), name);

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct DoeCsv {
 };
 
 DoeCsv read_doe_csv(const std::filesystem::path& path);
+
+// The text as a finite number when it is one written in full (no trailing
+// characters), else nullopt: empty, "abc", "1.5x", "inf".
+std::optional<double> parse_csv_number(const std::string& text);
 
 // One CSV line split into fields (double-quoted fields may hold commas and "").
 std::vector<std::string> split_csv_line(const std::string& line);

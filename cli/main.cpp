@@ -18,6 +18,25 @@
 #include <exception>
 #include <iostream>
 
+namespace {
+
+// Runs a subcommand's body: bad input (ConfigError) exits 2, any other error
+// 1, each with one "demcal: [who]error: ..." line; otherwise the body's code.
+template <typename Body>
+int guarded(const std::string& who, Body&& body) {
+  try {
+    return body();
+  } catch (const demcal::cli::ConfigError& e) {
+    std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace demcal::cli;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
@@ -150,22 +169,14 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  if (*study_cmd) {
-    try {
+  if (*study_cmd)
+    return guarded("", [&] {
       study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
-      const auto report = run_study(study_opts, std::cout, std::cerr);
-      return report.empty() ? 1 : 0;
-    } catch (const ConfigError& e) {
-      std::cerr << "demcal: error: " << e.what() << "\n";
-      return 2;
-    } catch (const std::exception& e) {
-      std::cerr << "demcal: error: " << e.what() << "\n";
-      return 1;
-    }
-  }
+      return run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
+    });
 
-  if (*fit_cmd || *inspect_cmd || *calibrate_cmd) {
-    try {
+  if (*fit_cmd || *inspect_cmd || *calibrate_cmd)
+    return guarded("", [&] {
       if (!fit_doe.empty()) fit_opts.doe_csv = fit_doe;
       if (*fit_cmd)
         fit(fit_opts, std::cout, std::cerr);
@@ -173,22 +184,15 @@ int main(int argc, char** argv) {
         inspect(fit_opts, std::cout, std::cerr);
       else
         calibrate_study(fit_opts, std::cout, std::cerr);
-    } catch (const ConfigError& e) {
-      std::cerr << "demcal: error: " << e.what() << "\n";
-      return 2;
-    } catch (const std::exception& e) {
-      std::cerr << "demcal: error: " << e.what() << "\n";
-      return 1;
-    }
-    return 0;
-  }
+      return 0;
+    });
 
   if (*doe_cmd) {
     // The MPI session (if any) ends before main returns, whatever happens.
     MpiSession mpi;
     const int rank = mpi.group().rank;
     const std::string who = mpi.group().size > 1 ? "rank " + std::to_string(rank) + ": " : "";
-    try {
+    return guarded(who, [&] {
       if (!doe_shard.empty()) doe_opts.shard = parse_shard(doe_shard);
       if (doe_stop_after > 0) doe_opts.stop_after = doe_stop_after;
       doe_opts.group = mpi.group();
@@ -205,17 +209,11 @@ int main(int argc, char** argv) {
                   << " rows of the table have no result in the store yet\n";
         return 1;
       }
-    } catch (const ConfigError& e) {
-      std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
-      return 2;
-    } catch (const std::exception& e) {
-      std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
-      return 1;
-    }
-    return 0;
+      return 0;
+    });
   }
 
-  try {
+  return guarded("", [&] {
     if (*simulate_cmd) {
       sim_opts.config = config;
       if (!output.empty()) sim_opts.output_dir = output;
@@ -224,12 +222,6 @@ int main(int argc, char** argv) {
       sim_opts.progress = !sim_opts.quiet && isatty(fileno(stderr)) != 0;
       simulate(sim_opts, std::cout, std::cerr);
     }
-  } catch (const ConfigError& e) {
-    std::cerr << "demcal: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "demcal: error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

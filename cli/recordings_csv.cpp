@@ -25,16 +25,9 @@ std::string trim(const std::string& s) {
 
 double number(const std::filesystem::path& file, std::size_t line, const std::string& column, const std::string& text) {
   if (text.empty()) fail(file, line, column + ": missing; expected a number");
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(v))
-    fail(file, line, column + ": expected a finite number, got \"" + text + "\"");
-  return v;
+  const auto v = parse_csv_number(text);
+  if (!v) fail(file, line, column + ": expected a finite number, got \"" + text + "\"");
+  return *v;
 }
 
 std::string joined(const std::vector<std::string>& v) {

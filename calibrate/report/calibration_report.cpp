@@ -238,12 +238,7 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
                rows, "Calibrated values with 95 % credible intervals");
   }
   page.write(files.html);
-  const auto tmp = files.json.string() + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << summary.dump(1) << "\n";
-  }
-  fs::rename(tmp, files.json);
+  write_text_atomically(files.json, summary.dump(1) + "\n");
   return files;
 }
 

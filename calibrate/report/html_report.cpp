@@ -96,16 +96,18 @@ std::string HtmlReport::html() const {
   return s.str();
 }
 
-void HtmlReport::write(const std::filesystem::path& path) const {
+void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   const auto tmp = path.string() + ".tmp";
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error("cannot write " + tmp);
-    f << html();
+    f << text;
     if (!f) throw std::runtime_error("cannot write " + tmp);
   }
   std::filesystem::rename(tmp, path);
 }
+
+void HtmlReport::write(const std::filesystem::path& path) const { write_text_atomically(path, html()); }
 
 }  // namespace demcal::calibrate

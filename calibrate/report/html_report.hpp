@@ -39,4 +39,8 @@ class HtmlReport {
 
 std::string html_escape(const std::string& text);
 
+// Writes `text` to a temporary file beside `path` and renames it over `path`:
+// a reader never sees half a report.
+void write_text_atomically(const std::filesystem::path& path, const std::string& text);
+
 }  // namespace demcal::calibrate

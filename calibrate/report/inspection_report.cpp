@@ -226,12 +226,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
     summary["surrogates"].push_back(entry);
   }
   page.write(files.html);
-  const auto tmp = files.json.string() + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << summary.dump(1) << "\n";
-  }
-  fs::rename(tmp, files.json);
+  write_text_atomically(files.json, summary.dump(1) + "\n");
   return files;
 }
 
