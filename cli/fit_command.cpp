@@ -165,6 +165,15 @@ fs::path inspect(const FitOptions& o, std::ostream& out, std::ostream& log) {
     s.fit = surrogate::fitted_surrogate_from_json(j);
     const auto data = data_for(c, s.setup, c.table.observable_index(s.fit.output_name));
     s.design_x = data.x;
+    if (s.fit.spec.model == "gaussian_process") {
+      surrogate::SurrogateSpec poly;
+      poly.model = "polynomial";
+      try {
+        s.companion_polynomial = surrogate::fit_surrogate(data, poly);
+      } catch (const std::invalid_argument& e) {
+        log << "note: no comparison polynomial for " << s.setup << " " << s.fit.output_name << ": " << e.what() << "\n";
+      }
+    }
     list.push_back(std::move(s));
   }
   if (list.empty()) throw ConfigError(sdir.string() + ": no surrogates; run `demcal fit` first");

@@ -204,6 +204,17 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
       page.table({"total degree", "LOO RMSE"}, drows, "Degree chosen by leave-one-out cross-validation");
     }
     coefficient_section(page, entry, s);
+    if (s.companion_polynomial) {
+      InspectedSurrogate poly{s.setup, *s.companion_polynomial, s.design_x, std::nullopt};
+      nlohmann::json pe;
+      page.paragraph("For comparison, the regression equation the seed paper would fit: a polynomial of total degree " +
+                     std::to_string(dynamic_cast<const surrogate::PolynomialSurface&>(*poly.fit.model).degree()) +
+                     " chosen by leave-one-out (LOO RMSE " + num(poly.fit.validation.rmse, 3) + ", Q² " +
+                     num(poly.fit.validation.q_squared, 4) + "). It is shown, not used by the calibration.");
+      coefficient_section(page, pe, poly);
+      entry["companion_polynomial"] = pe;
+      entry["companion_polynomial"]["loo_rmse"] = poly.fit.validation.rmse;
+    }
 
     surrogate::SobolOptions so;
     so.base_samples = o.sobol_base_samples;

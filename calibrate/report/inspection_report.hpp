@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct InspectedSurrogate {
   std::string setup;  // the apparatus, e.g. "sandglass"
   surrogate::FittedSurrogate fit;
   Eigen::MatrixXd design_x;  // the runs' inputs (for the maps)
+  // For a Gaussian process: a polynomial fitted to the same runs (degree by
+  // leave-one-out), whose coefficient table with standard errors is the
+  // paper-style regression equation; it is shown, not used.
+  std::optional<surrogate::FittedSurrogate> companion_polynomial;
 };
 
 struct InspectionReportOptions {
@@ -29,7 +34,7 @@ struct InspectionReportOptions {
   std::vector<std::string> parameter_names;
   std::vector<double> lower, upper;
   int map_points_per_axis = 81;
-  std::size_t sobol_base_samples = 4096;
+  std::size_t sobol_base_samples = 16384;
 };
 
 struct InspectionReportFiles {
