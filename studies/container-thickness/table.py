@@ -31,6 +31,8 @@ def stats(v):
     sd = math.sqrt(sum((x - mu) ** 2 for x in v) / (n - 1)) if n > 1 else float("nan")
     return mu, sd, n
 
+pooled_all = [stats(v)[1] for v in rows.values() if len(v) > 1]
+sd_pool_all = math.sqrt(sum(s * s for s in pooled_all) / len(pooled_all)) if pooled_all else float("nan")
 result = {}
 print("| boundary | t/d | AoR mean (deg) | seed sd (deg) | n | seeds |")
 print("|---|---|---|---|---|---|")
@@ -38,8 +40,7 @@ for b in ("walls", "periodic"):
     ts = sorted(t for (bb, t) in rows if bb == b)
     if not ts:
         continue
-    pooled = [stats(rows[(b, t)])[1] for t in ts if len(rows[(b, t)]) > 1]
-    sd_pool = math.sqrt(sum(s * s for s in pooled) / len(pooled)) if pooled else float("nan")
+    sd_pool = sd_pool_all
     for t in ts:
         mu, sd, n = stats(rows[(b, t)])
         print(f"| {b} | {t:g} | {mu:.1f} | {sd:.1f} | {n} | {', '.join(f'{x:.1f}' for x in rows[(b, t)])} |")
