@@ -130,8 +130,9 @@ TEST(RegressionOnFittedModels, SandglassCalibrationSurrogatesAndCalibrationMatch
   const fs::path ref_file = kSource / "tests/data/regression/sandglass_calibration_fit.json";
   const nlohmann::json now = current();
   if (std::getenv("DEMCAL_UPDATE_REFERENCES")) {
+    // Regenerating: write the references; the comparison below is then with
+    // themselves, but the science checks after it still have to hold.
     std::ofstream(ref_file) << now.dump(1) << "\n";
-    GTEST_SKIP() << "references written to " << ref_file;
   }
   std::ifstream in(ref_file);
   ASSERT_TRUE(in) << ref_file << " is missing; see the comment at the top of this file";
