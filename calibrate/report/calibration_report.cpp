@@ -14,12 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string num(double v, int precision = 4) {
-  if (!std::isfinite(v)) return "—";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
+std::string num(double v, int precision = 4) { return format_number(v, precision); }
 
 std::string observables_of(const CalibrationResult& r) {
   std::string s;

@@ -1,6 +1,8 @@
 #include "calibrate/report/html_report.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -20,6 +22,13 @@ std::string html_escape(const std::string& text) {
     }
   }
   return out;
+}
+
+std::string format_number(double v, int precision) {
+  if (!std::isfinite(v)) return "—";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
 }
 
 HtmlReport::HtmlReport(std::string title) : title_(std::move(title)) {}

@@ -39,6 +39,10 @@ class HtmlReport {
 
 std::string html_escape(const std::string& text);
 
+// A number for a report's text and tables: `precision` significant digits,
+// "—" when not finite.
+std::string format_number(double v, int precision = 4);
+
 // Writes `text` to a temporary file beside `path` and renames it over `path`:
 // a reader never sees half a report.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);

@@ -18,12 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string num(double v, int precision = 4) {
-  if (!std::isfinite(v)) return "—";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
+std::string num(double v, int precision = 4) { return format_number(v, precision); }
 
 // "angle_of_repose_deg" -> "AoR (deg)": figure labels a reader recognises.
 std::string label_of(const std::string& observable) {
