@@ -12,7 +12,12 @@ struct Recording {
   std::string setup;       // the apparatus it was measured on, e.g. "sandglass"
   std::string observable;  // a stable observable name, e.g. "angle_of_repose_deg"
   double value = 0.0;      // SI units, as the observable's name says
-  double sigma = 0.0;      // standard uncertainty (> 0), same units
+  double sigma = 0.0;      // the measurement's own standard uncertainty (> 0), same units
+  // How many tests the value is the mean of. The test-to-test scatter is not
+  // part of sigma: the DEM's replicate scatter stands for it, divided by
+  // sqrt(repeats), so that a mean of several tests is not charged a single
+  // test's scatter, nor the scatter counted twice.
+  int repeats = 1;
   std::string unit;        // as written, checked against the observable
   std::size_t line = 0;    // in the recordings file, for messages
 };

@@ -3,6 +3,7 @@
 #include "calibrate/calibration.hpp"
 #include "calibrate/report/calibration_report.hpp"
 #include "cli/calibration_config.hpp"
+#include "cli/calibration_targets.hpp"
 #include "cli/recordings_csv.hpp"
 #include "cli/run_store.hpp"
 #include "cli/simulate_command.hpp"
@@ -25,16 +26,6 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-surrogate::FittedSurrogate load_fit(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw ConfigError(file.string() + ": no such surrogate; run `demcal fit` first");
-  try {
-    return surrogate::fitted_surrogate_from_json(nlohmann::json::parse(in));
-  } catch (const std::exception& e) {
-    throw ConfigError(file.string() + ": not a surrogate file (" + e.what() + ")");
-  }
-}
-
 std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& params, const Eigen::VectorXd& theta) {
   std::ostringstream s;
   s << "(";
@@ -52,45 +43,11 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
     throw ConfigError(study.file + ": the study has no [calibration] table (recordings = \"...\")");
   if (!study.design) throw ConfigError(study.file + ": the study has no [design] table; calibrate needs its bounds");
   const CalibrationConfig& cc = *study.calibration;
-  std::vector<std::string> setups;
-  for (const auto& a : study.apparatus) setups.push_back(a.name);
-  const auto recordings = read_recordings_csv(cc.recordings, setups);
-
-  std::vector<calibrate::ParameterBounds> params;
-  for (const auto& p : study.design->spec.parameters) params.push_back({p.name, p.lower, p.upper});
+  const auto recordings = study_recordings(study);
+  const auto params = design_bounds(study);
   const fs::path dir = study_directory(o.output_dir, study.name);
-  std::vector<calibrate::Target> all;
-  for (const auto& r : recordings) {
-    const fs::path file = dir / "surrogates" / (r.setup + "." + r.observable + ".json");
-    if (!fs::exists(file))
-      throw ConfigError(cc.recordings.string() + ":" + std::to_string(r.line) + ": " + r.setup + " " + r.observable +
-                        " is recorded but has no surrogate (" + file.string() +
-                        "); add it to [surrogate] observables and run `demcal fit`");
-    const auto fit = load_fit(file);
-    if (fit.model->input_names() != std::vector<std::string>([&] {
-          std::vector<std::string> n;
-          for (const auto& p : params) n.push_back(p.name);
-          return n;
-        }()))
-      throw ConfigError(file.string() + ": the surrogate's inputs differ from the study's [design] parameters; "
-                                        "run `demcal fit` again");
-    calibrate::Target t;
-    t.setup = r.setup;
-    t.observable = r.observable;
-    t.measured = r.value;
-    t.sigma_measured = r.sigma;
-    t.sigma_dem = std::isfinite(fit.scatter.sd) ? fit.scatter.sd : 0.0;
-    t.model = fit.model;
-    all.push_back(t);
-  }
-  calibrate::CalibrationOptions co;
-  co.confidence = cc.confidence;
-  co.grid_points_per_axis = cc.grid_points_per_axis;
-  co.multistart_points = cc.multistart_points;
-  co.mcmc_samples = cc.mcmc_samples;
-  co.mcmc_burn_in = cc.mcmc_burn_in;
-  co.mcmc_chains = cc.mcmc_chains;
-  co.seed = cc.seed;
+  const std::vector<calibrate::Target> all = calibration_targets(study, dir, recordings);
+  const calibrate::CalibrationOptions co = calibration_options(cc);
   log << "calibrating " << study.name << " on " << all.size() << " recordings ...\n";
   const auto joint = calibrate::calibrate(params, all, co);
   std::optional<calibrate::CalibrationResult> alone;

@@ -4,6 +4,7 @@
 #include "surrogate/sobol_design.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -67,8 +68,13 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
   spec.kind = *surrogate::design_kind_from_name(kind);
   const bool factorial = spec.kind == surrogate::DesignKind::kFullFactorial;
   const bool sobol = spec.kind == surrogate::DesignKind::kSobol;
+  const bool list = spec.kind == surrogate::DesignKind::kList;
 
-  if (factorial) {
+  if (list) {
+    if (d.contains("points"))
+      d.fail("points", "applies only to kind = \"latin_hypercube\" or \"sobol\"; a list design "
+                       "runs the points of design.values");
+  } else if (factorial) {
     if (d.contains("points"))
       d.fail("points",
              "applies only to kind = \"latin_hypercube\" or \"sobol\"; a full factorial design "
@@ -148,6 +154,40 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     spec.parameters.push_back(r);
     out.parameter_paths.push_back(target);
     out.parameter_lines.push_back(line);
+  }
+  if (list) {
+    const toml::node* vn = dt.get("values");
+    const std::size_t vline = vn ? node_line(*vn, d.line()) : d.line();
+    const toml::array* rows = vn ? vn->as_array() : nullptr;
+    const std::string expected = "an array of points [[" + spec.parameters.front().name +
+                                 (spec.parameters.size() > 1 ? ", " + spec.parameters[1].name : std::string()) +
+                                 (spec.parameters.size() > 2 ? ", ..." : "") + "], ...]";
+    if (rows == nullptr || rows->empty())
+      ctx.raise(vline, d.path() + ".values", "expected " + expected + (vn ? ", got " + describe_value(*vn) : ""));
+    if (rows->size() > static_cast<std::size_t>(kMaxPoints))
+      ctx.raise(vline, d.path() + ".values", "expected at most " + std::to_string(kMaxPoints) + " points");
+    for (std::size_t i = 0; i < rows->size(); ++i) {
+      const toml::array* row = (*rows)[i].as_array();
+      const std::string where = d.path() + ".values[" + std::to_string(i) + "]";
+      if (row == nullptr || row->size() != spec.parameters.size())
+        ctx.raise(vline, where, "expected " + std::to_string(spec.parameters.size()) + " numbers (one per parameter: " +
+                                    expected + "), got " + describe_value((*rows)[i]));
+      std::vector<double> v;
+      for (std::size_t k = 0; k < row->size(); ++k) {
+        const auto x = (*row)[k].value<double>();
+        const auto& r = spec.parameters[k];
+        if (!x || !std::isfinite(*x))
+          ctx.raise(vline, where, r.name + ": expected a finite number, got " + describe_value((*row)[k]));
+        if (*x < r.lower || *x > r.upper)
+          ctx.raise(vline, where, r.name + " = " + format_number(*x) + " is outside its bounds [" +
+                                      format_number(r.lower) + ", " + format_number(r.upper) + "]");
+        v.push_back(*x);
+      }
+      spec.values.push_back(std::move(v));
+    }
+    d.has("values");
+  } else if (d.contains("values")) {
+    d.fail("values", "applies only to kind = \"list\"");
   }
   if (factorial && factorial_points > kMaxFactorialPoints)
     d.fail("parameters", "the full factorial design has " + format_number(factorial_points) +

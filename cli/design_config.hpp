@@ -4,8 +4,10 @@
 // made. Read as strictly as the rest of the study:
 //
 //   [design]
-//   kind = "latin_hypercube"        # "full_factorial" | "latin_hypercube" | "sobol"
+//   kind = "latin_hypercube"        # "full_factorial" | "latin_hypercube" | "sobol" | "list"
 //   points = 20                     # latin_hypercube and sobol only: integer in [1, 100000]
+//   values = [[0.3, 0.52], ...]     # list only: the points, one value per parameter in the
+//                                   #   parameters' written order, each inside its bounds
 //   replicates = 2                  # opt, integer in [1, 1000]; runs per point
 //   seed = 1                        # opt, integer >= 0; latin_hypercube's generator seed
 //                                   #   (accepted and unused by the other kinds)

@@ -2,6 +2,7 @@
 // tests and other front ends reach it without a process boundary.
 
 #include "cli/calibrate_command.hpp"
+#include "cli/diagnose_command.hpp"
 #include "cli/doe_command.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/fit_command.hpp"
@@ -156,6 +157,18 @@ int main(int argc, char** argv) {
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
   study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
 
+  DiagnoseOptions diag_opts;
+  CLI::App* diagnose_cmd = app.add_subcommand(
+      "diagnose",
+      "When the base model does not reproduce the recordings: locate the mismatch, name the physics left "
+      "out ([diagnosis] table), model it and compare; writes <output>/<study>/reports/diagnosis/index.html");
+  diagnose_cmd->add_option("study", diag_opts.study, "The study config, with [calibration] and [diagnosis] (TOML)")
+      ->required();
+  diagnose_cmd->add_option("--jobs,-j", diag_opts.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
+  diagnose_cmd->add_option("--output", diag_opts.output_dir, "Directory holding <study name>/")->capture_default_str();
+  diagnose_cmd->add_option("--set", diag_opts.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+  diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -174,6 +187,9 @@ int main(int argc, char** argv) {
       study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
       return run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
+
+  if (*diagnose_cmd)
+    return guarded("", [&] { return diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
 
   if (*fit_cmd || *inspect_cmd || *calibrate_cmd)
     return guarded("", [&] {

@@ -54,8 +54,11 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
   if (!std::getline(in, line)) fail(path, 1, "empty file; expected the header setup,observable,value,sigma,unit");
   std::vector<std::string> header;
   for (const auto& h : split_csv_line(line)) header.push_back(trim(h));
-  const std::vector<std::string> expected = {"setup", "observable", "value", "sigma", "unit"};
-  if (header != expected) fail(path, 1, "expected the header setup,observable,value,sigma,unit, got \"" + line + "\"");
+  std::vector<std::string> expected = {"setup", "observable", "value", "sigma", "unit"};
+  const bool with_repeats = header.size() == 6 && header.back() == "repeats";
+  if (with_repeats) expected.push_back("repeats");
+  if (header != expected)
+    fail(path, 1, "expected the header setup,observable,value,sigma,unit (and optionally ,repeats), got \"" + line + "\"");
   std::vector<calibrate::Recording> out;
   std::set<std::pair<std::string, std::string>> seen;
   std::size_t n = 1;
@@ -64,7 +67,9 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
     if (trim(line).empty() || trim(line)[0] == '#') continue;
     auto f = split_csv_line(line);
     for (auto& x : f) x = trim(x);
-    if (f.size() != 5) fail(path, n, "expected 5 fields (setup,observable,value,sigma,unit), got " + std::to_string(f.size()));
+    if (f.size() != expected.size())
+      fail(path, n, "expected " + std::to_string(expected.size()) + " fields (" + joined(expected) + "), got " +
+                        std::to_string(f.size()));
     calibrate::Recording r;
     r.line = n;
     r.setup = f[0];
@@ -82,6 +87,12 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
     if (r.unit != unit_of_observable(r.observable))
       fail(path, n, "unit \"" + r.unit + "\" does not fit " + r.observable + "; expected \"" +
                         unit_of_observable(r.observable) + "\" (SI, as the name says)");
+    if (with_repeats) {
+      const double k = number(path, n, "repeats", f[5]);
+      if (!(k >= 1.0) || k != std::floor(k) || k > 1e6)
+        fail(path, n, "repeats: expected a whole number >= 1 (how many tests the value is the mean of), got " + f[5]);
+      r.repeats = static_cast<int>(k);
+    }
     if (!seen.insert({r.setup, r.observable}).second)
       fail(path, n, r.setup + " " + r.observable + " is recorded twice; give one value (the mean) with its sigma");
     out.push_back(r);

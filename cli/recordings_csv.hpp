@@ -1,9 +1,13 @@
 #pragma once
 // The recordings of a study (DESIGN.md "Files"): a CSV with the header
-//   setup,observable,value,sigma,unit
+//   setup,observable,value,sigma,unit[,repeats]
 // one row per measured quantity, e.g.
 //   sandglass,angle_of_repose_deg,41.57,1.0,deg
 //   sandglass,discharge_time_s,6.56,0.15,s
+// sigma is the measurement's own uncertainty (instrument, reading); the
+// test-to-test scatter is supplied by the DEM's replicate scatter, divided by
+// sqrt(repeats) when the value is the mean of several tests (the optional
+// column repeats, an integer >= 1, default 1).
 // and, for time series, CSVs with the header time_s,<quantity> (e.g.
 // time_s,discharged_mass_kg). Every row is checked: the setup must be an
 // apparatus of the study, the observable one demcal measures, the unit the

@@ -1,5 +1,6 @@
 #include "cli/simulation_config.hpp"
 
+#include "dem/air_drag.hpp"
 #include "dem/contact/contact_law.hpp"
 #include "dem/insertion/inserter.hpp"
 #include "dem/insertion/region.hpp"
@@ -120,7 +121,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   Table root(ctx, doc.table, "", node_line(doc.table, 1));
   // Unknown top-level tables first: a misspelt [simulation] would otherwise be
   // reported as a missing one.
-  for (const char* k : {"simulation", "domain", "contact", "material", "interaction", "wall",
+  for (const char* k : {"simulation", "domain", "contact", "material", "interaction", "air", "wall",
                         "insertion", "run", "output"})
     root.has(k);
   root.finish();
@@ -186,6 +187,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   // [[interaction]]
   std::vector<Table> int_ts = root.tables("interaction", true);
   std::map<std::pair<int, int>, std::size_t> given;  // pair -> line
+  std::vector<SurfaceEnergyKey> surface_energies;
   for (Table& t : int_ts) {
     const auto [na, nb] = t.string_pair("materials");
     const int a = material(t, "materials", na);
@@ -198,6 +200,15 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
     const dem::InteractionParameters p = read_interaction(t);
     t.finish();
     guarded(t, [&] { sim->set_interaction(a, b, p); });
+    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
+  }
+  check_surface_energies(con_t, sim->options().contact.adhesion, surface_energies);
+
+  // [air]: absent means no drag, and is not written in.
+  if (root.has("air")) {
+    Table air_t = root.table("air");
+    if (const auto air = read_air(air_t))
+      guarded(air_t, [&] { sim->add_body_force(std::make_unique<dem::AirDrag>(*air)); });
   }
 
   // [[wall]]

@@ -27,7 +27,10 @@
 //
 //   [contact]
 //   normal = "hertz"                      # required (names: dem::known_part_names)
-//   adhesion = "none"                     # opt
+//   adhesion = "none"                     # opt, "none" | "jkr" (JKR cohesion,
+//                                         #   dem/contact/jkr_adhesion.hpp): "jkr" needs
+//                                         #   surface_energy_j_m2 in some [[interaction]]; a
+//                                         #   surface energy > 0 with "none" is refused
 //   tangential = "mindlin"                # required
 //   rolling = "epsd"                      # required
 //   cdt_own_angular_velocity = false      # opt, only with rolling = "cdt"
@@ -45,6 +48,14 @@
 //   rolling_friction = 0.1                # >= 0
 //   rolling_stiffness_factor = 2.25       # opt, > 0
 //   rolling_damping_ratio = 0.3           # opt, >= 0
+//   surface_energy_j_m2 = 0.0             # opt, >= 0: JKR surface energy gamma of each surface
+//                                         #   (pull-off 3 pi gamma R*); not written in when absent
+//
+//   [air]                                 # opt; absent = no air (not written in)
+//   drag = "none"                         # opt, "none" | "schiller_naumann" (dem/air_drag.hpp):
+//                                         #   drag of still air on every particle
+//   density_kg_m3 = 1.2                   # opt, > 0
+//   dynamic_viscosity_pa_s = 1.8e-5       # opt, > 0
 //
 //   [[wall]]
 //   type = "plane"                        # see below for each type's geometry keys
@@ -68,7 +79,9 @@
 //   count = 1500                          # count and/or mass_kg (whichever is reached first)
 //   mass_kg = 0.0
 //   size = { distribution = "monodisperse", diameter_m = 1e-3 }
-//     uniform:          min_diameter_m, max_diameter_m
+//     uniform:          min_diameter_m, max_diameter_m, or
+//                       mean_diameter_m, relative_half_width (d uniform in
+//                         [mean (1 - w), mean (1 + w)], 0 <= w < 1)
 //     truncated_normal: mean_diameter_m, std_dev_m, min_diameter_m, max_diameter_m
 //     log_normal:       median_diameter_m, sigma_ln, min_diameter_m, max_diameter_m
 //     sieve:            sieve = [[opening_m, cumulative_fraction_passing], ...]

@@ -8,6 +8,7 @@
 #include "dem/apparatus/sandglass.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
@@ -169,6 +170,11 @@ const OverrideAliases& study_override_aliases() {
   static const OverrideAliases aliases = {
       {"mu_s", "interaction.particle_particle.sliding_friction"},
       {"mu_r", "interaction.particle_particle.rolling_friction"},
+      {"mu_s_wall", "interaction.particle_wall.sliding_friction"},
+      {"mu_r_wall", "interaction.particle_wall.rolling_friction"},
+      {"surface_energy", "interaction.particle_particle.surface_energy_j_m2"},
+      {"surface_energy_wall", "interaction.particle_wall.surface_energy_j_m2"},
+      {"size_spread", "material.size.relative_half_width"},
   };
   return aliases;
 }
@@ -180,8 +186,8 @@ StudyConfig build_study(ConfigDocument&& doc) {
   Table root(ctx, doc.table, "", node_line(doc.table, 1));
   // Unknown top-level tables first: a misspelt [material] would otherwise be
   // reported as a missing one.
-  for (const char* k : {"study", "material", "wall_material", "contact", "interaction", "protocol",
-                        "apparatus", "output", "design", "surrogate", "calibration"})
+  for (const char* k : {"study", "material", "wall_material", "contact", "interaction", "air",
+                        "protocol", "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
     root.has(k);
   root.finish();
 
@@ -220,15 +226,27 @@ StudyConfig build_study(ConfigDocument&& doc) {
 
   // [interaction.particle_particle], [interaction.particle_wall]
   Table int_t = root.table("interaction");
+  std::vector<Table> pair_ts;
+  std::vector<SurfaceEnergyKey> surface_energies;
+  pair_ts.reserve(2);  // surface_energies points into it
   for (const char* pair : {"particle_particle", "particle_wall"}) {
-    Table t = int_t.table(pair);
+    Table& t = pair_ts.emplace_back(int_t.table(pair));
     const dem::InteractionParameters p = read_interaction(t);
     t.finish();
     guarded(t, [&] { p.validate(t.path() + ": "); });
     (std::string(pair) == "particle_particle" ? material.particle_particle
                                               : material.particle_wall) = p;
+    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
   }
   int_t.finish();
+  check_surface_energies(con_t, material.contact.adhesion, surface_energies);
+
+  // [air]: absent means no drag, and is not written in (the runs of studies
+  // without it resolve, and hash, as before it existed).
+  if (root.has("air")) {
+    Table air_t = root.table("air");
+    material.air_drag = read_air(air_t);
+  }
 
   // [protocol]
   Table prot_t = root.table_or_empty("protocol");
@@ -245,11 +263,16 @@ StudyConfig build_study(ConfigDocument&& doc) {
                        between(0, true, 1, false));
   prot_t.finish();
 
-  // [apparatus.*]
+  // [apparatus.*]: a table named after its kind ([apparatus.sandglass]), or
+  // any name with the kind given (type = "sandglass"), so that one study can
+  // hold several setups of one kind — the sandglass at three orifices.
   Table app_t = root.table("apparatus");
+  toml::table& app_toml = *doc.table.get("apparatus")->as_table();
   std::vector<std::string> defined;
-  for (const std::string& name : known_apparatus_names())
-    if (app_t.has(name)) defined.push_back(name);
+  for (auto& [k, v] : app_toml) {
+    defined.emplace_back(k.str());
+    app_t.has(k.str());
+  }
   app_t.finish();
   if (defined.empty()) {
     std::string expected;
@@ -259,12 +282,25 @@ StudyConfig build_study(ConfigDocument&& doc) {
   }
   for (const std::string& name : defined) {
     Table t = app_t.table(name);
+    const auto& kinds = known_apparatus_names();
+    const bool named_by_kind = std::find(kinds.begin(), kinds.end(), name) != kinds.end();
+    if (!named_by_kind && !t.contains("type"))
+      t.fail_here("unknown key; expected one of " + quoted_list(kinds) +
+                  ", or a setup name of your own with type = \"<kind>\"");
+    // Not written in when absent: a run's hash is its resolved inputs, and the
+    // runs of studies written before setups had names must keep theirs.
+    const std::string kind = !named_by_kind ? t.choice("type", kinds) : t.has("type") ? t.choice("type", {name}) : name;
+    if (!named_by_kind && !std::all_of(name.begin(), name.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+        }))
+      t.fail_here("a setup name takes letters, digits, _ and - only (it names files)");
     StudyApparatus a;
     a.name = name;
+    a.kind = kind;
     a.line = t.line();
-    if (name == "sandglass")
+    if (kind == "sandglass")
       a.apparatus = read_sandglass(t, material, protocol);
-    else if (name == "conical_pile")
+    else if (kind == "conical_pile")
       a.apparatus = read_conical_pile(t, material, protocol);
     else
       a.apparatus = read_rectangular_container(t, material, protocol);
@@ -290,6 +326,12 @@ StudyConfig build_study(ConfigDocument&& doc) {
   out.surrogate = read_surrogate(root);
   // [calibration]
   out.calibration = read_calibration(root, doc.file);
+  // [diagnosis]
+  {
+    std::vector<std::string> setups;
+    for (const auto& a : out.apparatus) setups.push_back(a.name);
+    out.diagnosis = read_diagnosis(root, setups);
+  }
 
   root.finish();
   out.resolved = std::move(doc.table);
@@ -331,6 +373,7 @@ toml::table resolved_for(const StudyConfig& study, const std::string& apparatus)
   t.erase("design");
   t.erase("surrogate");
   t.erase("calibration");
+  t.erase("diagnosis");  // like the three above: it does not change a run, so not its hash
   if (toml::table* apps = t["apparatus"].as_table()) {
     toml::table only;
     if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);

@@ -32,7 +32,10 @@
 //   poisson_ratio = 0.25
 //   size = { distribution = "uniform", min_diameter_m = 3e-4, max_diameter_m = 6e-4 }
 //     monodisperse:     diameter_m
-//     uniform:          min_diameter_m, max_diameter_m
+//     uniform:          min_diameter_m, max_diameter_m, or
+//                       mean_diameter_m, relative_half_width   # d uniform in [mean (1 - w),
+//                         mean (1 + w)], w in [0, 1): the spread as one key (alias size_spread)
+//                         that a design varies at a fixed mean
 //     truncated_normal: mean_diameter_m, std_dev_m, min_diameter_m, max_diameter_m
 //     log_normal:       median_diameter_m, sigma_ln, min_diameter_m, max_diameter_m
 //     sieve:            sieve = [[opening_m, cumulative_fraction_passing], ...]
@@ -45,7 +48,10 @@
 //
 //   [contact]
 //   normal = "hertz"                      # required (names: dem::known_part_names)
-//   adhesion = "none"                     # opt
+//   adhesion = "none"                     # opt, "none" | "jkr": JKR cohesion
+//                                         #   (dem/contact/jkr_adhesion.hpp); "jkr" needs
+//                                         #   surface_energy_j_m2 in an interaction; a
+//                                         #   surface energy > 0 with "none" is refused
 //   tangential = "mindlin"                # required
 //   rolling = "cdt"                       # required
 //   cdt_own_angular_velocity = false      # opt, only with rolling = "cdt"
@@ -57,6 +63,14 @@
 //   rolling_friction = 0.3                # >= 0
 //   rolling_stiffness_factor = 2.25       # opt, > 0
 //   rolling_damping_ratio = 0.3           # opt, >= 0
+//   surface_energy_j_m2 = 0.0             # opt, >= 0: JKR surface energy gamma of each surface
+//                                         #   (pull-off 3 pi gamma R*); not written in when absent
+//
+//   [air]                                 # opt; absent = no air (not written in)
+//   drag = "none"                         # opt, "none" | "schiller_naumann" (dem/air_drag.hpp):
+//                                         #   drag of still air on every particle
+//   density_kg_m3 = 1.2                   # opt, > 0
+//   dynamic_viscosity_pa_s = 1.8e-5       # opt, > 0
 //
 //   [protocol]                            # opt, every key opt; defaults from dem::RunProtocol
 //   rest_speed_m_s = 5e-3                 # "at rest": rms speed below this (> 0),
@@ -67,11 +81,18 @@
 //   stall_time_s = 0.1                    # the flow has stopped when nothing passed for this (> 0)
 //   time_step_fraction_of_rayleigh = 0.2  # (0, 1]
 //
+//   Several setups of one kind: name the table freely and give its kind,
+//     [apparatus.orifice_16mm]
+//     type = "sandglass"                  # "sandglass" | "conical_pile" | "rectangular_container"
+//   (a table named after its kind needs no type). The table's name is the
+//   setup's name in recordings, surrogates and reports.
 //   One or more of the apparatus tables below. Every dimension is required.
 //   Each also takes the model reductions (dem::ModelReduction), all opt:
 //     slice = false                       # a periodic slab instead of the whole apparatus
 //     slice_thickness_diameters = 4.0     # >= 2; used only when slice = true
-//     coarse_graining_factor = 1.0        # > 0; every particle scaled, geometry kept
+//     coarse_graining_factor = 1.0        # > 0; every particle scaled by f, geometry kept;
+//                                         #   surface energies scaled by f^2 (the grains' Bond
+//                                         #   number), air drag of a parcel = f^3 grains' drag
 //     shear_modulus_pa = 0.0              # >= 0; 0 keeps the material's modulus
 //   (the rectangular container takes no slice keys: its thickness and boundary
 //   are its own keys).
@@ -127,9 +148,15 @@
 //
 // Overrides (`--set key=value`) address keys by dotted path as for plain configs
 // (cli/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
-// Two aliases name the calibrated pair the way the paper does:
+// Aliases name the calibrated pair the way the paper does, and the parameters
+// of the physics modules:
 //   --set mu_s=0.52   is   --set interaction.particle_particle.sliding_friction=0.52
 //   --set mu_r=0.3    is   --set interaction.particle_particle.rolling_friction=0.3
+//   mu_s_wall, mu_r_wall     interaction.particle_wall.sliding_friction, .rolling_friction
+//   surface_energy           interaction.particle_particle.surface_energy_j_m2
+//   surface_energy_wall      interaction.particle_wall.surface_energy_j_m2
+//   size_spread              material.size.relative_half_width (the mean_diameter_m form)
+// A design names them the same way ([design] parameters = { size_spread = {...} }).
 //
 // The resolved config a run records (resolved_for) holds only the apparatus
 // that ran, and no [design], so two runs of the same apparatus with the same
@@ -137,6 +164,7 @@
 
 #include "cli/design_config.hpp"
 #include "cli/calibration_config.hpp"
+#include "cli/diagnosis_config.hpp"
 #include "cli/surrogate_config.hpp"
 #include "cli/simulation_config.hpp"
 #include "cli/toml_reader.hpp"
@@ -157,14 +185,15 @@ namespace demcal::cli {
 // The apparatus a study can define, as named in [apparatus.<name>].
 const std::vector<std::string>& known_apparatus_names();
 
-// mu_s and mu_r.
+// mu_s, mu_r and the other short names listed above.
 const OverrideAliases& study_override_aliases();
 
 // A config is a study config when it has an [apparatus] table.
 bool is_study_config(const ConfigDocument& doc);
 
 struct StudyApparatus {
-  std::string name;
+  std::string name;                           // the setup: the table's name
+  std::string kind;                           // "sandglass", "conical_pile", "rectangular_container"
   std::size_t line = 0;                       // of its table, for messages
   std::unique_ptr<dem::Apparatus> apparatus;  // built, not yet run
 };
@@ -184,6 +213,8 @@ struct StudyConfig {
   std::optional<SurrogateConfig> surrogate;
   // [calibration], when the study has one (cli/calibration_config.hpp).
   std::optional<CalibrationConfig> calibration;
+  // [diagnosis], when the study has one (cli/diagnosis_config.hpp).
+  std::optional<DiagnosisConfig> diagnosis;
   // The whole config after overrides, with every default written in.
   toml::table resolved;
 };

@@ -117,9 +117,22 @@ std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
     s.finish();
     out = guarded(s, [&] { return dem::make_monodisperse(d); });
   } else if (dist == "uniform") {
-    const auto [lo, hi] = bounds();
-    s.finish();
-    out = guarded(s, [&] { return dem::make_uniform(lo, hi); });
+    // Two forms: the bounds, or a centre and a relative width (one key a design can vary).
+    if (s.has("mean_diameter_m") || s.has("relative_half_width")) {
+      for (const char* k : {"min_diameter_m", "max_diameter_m"})
+        if (s.contains(k))
+          s.fail(k,
+                 "give min_diameter_m and max_diameter_m, or mean_diameter_m and "
+                 "relative_half_width, not both forms");
+      const double mean = s.number("mean_diameter_m", above(0));
+      const double w = s.number("relative_half_width", between(0, false, 1, true));
+      s.finish();
+      out = guarded(s, [&] { return dem::make_uniform_about_mean(mean, w); });
+    } else {
+      const auto [lo, hi] = bounds();
+      s.finish();
+      out = guarded(s, [&] { return dem::make_uniform(lo, hi); });
+    }
   } else if (dist == "truncated_normal") {
     const double mean = s.number("mean_diameter_m", above(0));
     const double sd = s.number("std_dev_m", at_least(0));
@@ -168,7 +181,41 @@ dem::InteractionParameters read_interaction(Table& t) {
   p.rolling_friction = t.number("rolling_friction", at_least(0));
   p.rolling_stiffness_factor = t.number_or("rolling_stiffness_factor", 2.25, above(0));
   p.rolling_damping_ratio = t.number_or("rolling_damping_ratio", 0.3, at_least(0));
+  // Not written in when absent: configs without adhesion resolve (and hash) as before.
+  if (t.has("surface_energy_j_m2"))
+    p.surface_energy_j_m2 = t.number("surface_energy_j_m2", at_least(0));
   return p;
+}
+
+std::optional<dem::AirProperties> read_air(Table& t) {
+  const std::string drag = t.choice_or("drag", {"none", "schiller_naumann"}, "none");
+  // Read (and checked) either way, so that --set air.drag=... toggles the drag alone.
+  dem::AirProperties air;
+  air.density_kg_m3 = t.number_or("density_kg_m3", air.density_kg_m3, above(0));
+  air.dynamic_viscosity_pa_s =
+      t.number_or("dynamic_viscosity_pa_s", air.dynamic_viscosity_pa_s, above(0));
+  t.finish();
+  if (drag == "none") return std::nullopt;
+  return air;
+}
+
+void check_surface_energies(Table& contact, const std::string& adhesion,
+                            const std::vector<SurfaceEnergyKey>& given) {
+  if (adhesion == "none") {
+    for (const SurfaceEnergyKey& g : given)
+      if (g.value_j_m2 > 0.0)
+        g.table->fail("surface_energy_j_m2",
+                      "is " + format_number(g.value_j_m2) +
+                          " J/m^2 but contact.adhesion is \"none\": a surface energy acts only "
+                          "through an adhesion part; set contact.adhesion = \"jkr\" or remove "
+                          "this key");
+    return;
+  }
+  if (given.empty())
+    contact.fail("adhesion",
+                 "\"" + adhesion +
+                     "\" needs the surface energy it acts with: give surface_energy_j_m2 (J/m^2, "
+                     ">= 0) in the particle-particle and/or the particle-wall interaction");
 }
 
 dem::ContactLawSpec read_contact(Table& t) {

@@ -6,6 +6,7 @@
 // file, line, dotted key and what was expected. A schema is the code that
 // reads it; see simulation_config.hpp and study_config.hpp.
 
+#include "dem/air_drag.hpp"
 #include "dem/contact/contact_law.hpp"
 #include "dem/contact/pair_coefficients.hpp"
 #include "dem/material.hpp"
@@ -468,12 +469,28 @@ std::string read_run_name(Table& t, std::string_view key);
 // them the way the engine would, so its errors point at the key.
 //   material:     density_kg_m3, youngs_modulus_pa | shear_modulus_pa, poisson_ratio
 //   interaction:  restitution, sliding_friction, rolling_friction,
-//                 rolling_stiffness_factor (opt), rolling_damping_ratio (opt)
+//                 rolling_stiffness_factor (opt), rolling_damping_ratio (opt),
+//                 surface_energy_j_m2 (opt, >= 0; not written in when absent)
 //   contact:      normal, adhesion (opt), tangential, rolling, cdt_own_angular_velocity (opt)
+//   air:          drag (opt, "none" | "schiller_naumann"), density_kg_m3 (opt, > 0),
+//                 dynamic_viscosity_pa_s (opt, > 0); calls finish(); the air when drag is on
 void read_material_properties(Table& t, dem::Material& m);
 dem::InteractionParameters read_interaction(Table& t);
 dem::ContactLawSpec read_contact(Table& t);
 dem::RestitutionModel read_restitution_model(Table& t);
+std::optional<dem::AirProperties> read_air(Table& t);
+
+// A surface_energy_j_m2 key found in an interaction table.
+struct SurfaceEnergyKey {
+  Table* table;
+  double value_j_m2;
+};
+// The surface energy and the adhesion part must agree: with adhesion "none" a
+// value > 0 is refused at its key (it would be ignored); an adhesion part needs
+// the key in at least one interaction (an explicit 0 is accepted, so that a
+// design can reach the cohesionless end), else it is refused at contact.adhesion.
+void check_surface_energies(Table& contact, const std::string& adhesion,
+                            const std::vector<SurfaceEnergyKey>& given);
 
 }  // namespace reader
 }  // namespace demcal::cli

@@ -149,6 +149,7 @@ void Simulation::prepare() {
   dt_ = options_.time_step_s > 0.0 ? options_.time_step_s
                                    : options_.time_step_fraction_of_rayleigh * t_rayleigh;
   skin_m_ = options_.skin_fraction_of_diameter * 2.0 * r_max;
+  check_hold_range(particle_materials, wall_materials, r_max);
   max_speed_m_s_ = options_.max_speed_m_s;
   if (max_speed_m_s_ <= 0.0) {
     const Vec3 len = options_.domain.length_m();
@@ -169,6 +170,37 @@ void Simulation::prepare() {
   run_inserters();
   rebuild_neighbors();
   compute_forces();
+}
+
+// A contact held beyond touching must stay in the Verlet list: the list keeps
+// pairs closer than the skin at each build, so the largest gap at which a part
+// holds a contact must be below it. The gap grows with R*, so the largest
+// particles bound it: R* = r_max / 2 between two of them, r_max against a wall.
+void Simulation::check_hold_range(const std::set<int>& particle_materials,
+                                  const std::set<int>& wall_materials, double r_max) {
+  hold_range_m_ = 0.0;
+  with_contact_kernel(law_, [&](const auto& kernel) {
+    if constexpr (std::decay_t<decltype(kernel)>::kHoldsBeyondTouching) {
+      const int nm = static_cast<int>(materials_.size());
+      auto check = [&](int a, int b, double radius_eff_m) {
+        const double gap = kernel.max_separation_m(coefficients_[a * nm + b], radius_eff_m);
+        if (gap >= skin_m_) {
+          std::ostringstream msg;
+          msg << "materials '" << materials_[a].name << "' and '" << materials_[b].name
+              << "': the contact law holds a touching contact up to a gap of " << gap
+              << " m (its critical separation at the largest particles), which the Verlet skin of "
+              << skin_m_ << " m does not cover; raise skin_fraction_of_diameter above "
+              << gap / (2.0 * r_max) << " (it is " << options_.skin_fraction_of_diameter << ")";
+          throw std::invalid_argument(msg.str());
+        }
+        hold_range_m_ = std::max(hold_range_m_, gap);
+      };
+      for (int a : particle_materials) {
+        for (int b : particle_materials) check(a, b, 0.5 * r_max);
+        for (int b : wall_materials) check(a, b, r_max);
+      }
+    }
+  });
 }
 
 void Simulation::run_inserters() {
@@ -381,11 +413,21 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
         const double rsum = ri + rad[j];
         const double dist2 = norm2(d);
         if (dist2 >= rsum * rsum) {
-          if (neighbors_.touching(p)) {
-            neighbors_.touching(p) = 0;
-            neighbors_.history(p) = ContactHistory{};
+          // Parted. A part of the law may still hold a contact that touched
+          // (adhesion); a law without such a part compiles to the plain test.
+          bool held = false;
+          if constexpr (Kernel::kHoldsBeyondTouching) {
+            if (neighbors_.touching(p))
+              held = kernel.holds(coefficients_[mi * nm + mat[j]], ri * rad[j] / rsum,
+                                  rsum - std::sqrt(dist2));
           }
-          continue;
+          if (!held) {
+            if (neighbors_.touching(p)) {
+              neighbors_.touching(p) = 0;
+              neighbors_.history(p) = ContactHistory{};
+            }
+            continue;
+          }
         }
         const double dist = std::sqrt(dist2);
         ContactKinematics k;
@@ -430,7 +472,18 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
       for (std::size_t c = 0; c < nc; ++c) {
         const std::uint32_t i = cand.particle[c];
         WallContactPoint cp;
-        if (!wall.nearest_point(x[i], rad[i], now, cp) || cp.distance_m >= rad[i]) {
+        bool on;
+        if constexpr (Kernel::kHoldsBeyondTouching) {
+          // A contact that touched is looked for up to the hold range and kept while held.
+          const bool touched = cand.touching[c] != 0;
+          on = wall.nearest_point(x[i], touched ? rad[i] + hold_range_m_ : rad[i], now, cp);
+          if (on && cp.distance_m >= rad[i])
+            on = touched &&
+                 kernel.holds(coefficients_[mat[i] * nm + mw], rad[i], rad[i] - cp.distance_m);
+        } else {
+          on = wall.nearest_point(x[i], rad[i], now, cp) && cp.distance_m < rad[i];
+        }
+        if (!on) {
           if (cand.touching[c]) {
             cand.touching[c] = 0;
             cand.history[c] = ContactHistory{};

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -117,6 +118,8 @@ class Simulation {
 
  private:
   void prepare();
+  void check_hold_range(const std::set<int>& particle_materials,
+                        const std::set<int>& wall_materials, double r_max);
   void run_inserters();
   void rebuild_neighbors();
   void compute_forces();
@@ -154,6 +157,9 @@ class Simulation {
   bool rebuild_requested_ = true;
   double dt_ = 0.0;
   double skin_m_ = 0.0;
+  // Largest gap at which a part of the law holds a contact that touched (0
+  // without adhesion): how far beyond touching the wall loop looks.
+  double hold_range_m_ = 0.0;
   double max_speed_m_s_ = 0.0;
   double time_s_ = 0.0;
   std::int64_t steps_ = 0;

@@ -137,7 +137,9 @@ class Monodisperse final : public SizeDistribution {
 
 class Uniform final : public SizeDistribution {
  public:
-  Uniform(double min_m, double max_m) : min_m_(min_m), max_m_(max_m) {}
+  // relative_half_width < 0: written as bounds; else as mean +- that fraction.
+  Uniform(double min_m, double max_m, double relative_half_width = -1.0)
+      : min_m_(min_m), max_m_(max_m), relative_half_width_(relative_half_width) {}
   double sample_diameter_m(Random& rng) const override { return rng.uniform(min_m_, max_m_); }
   double min_diameter_m() const override { return min_m_; }
   double max_diameter_m() const override { return max_m_; }
@@ -149,12 +151,16 @@ class Uniform final : public SizeDistribution {
     return (a + b) * (a * a + b * b) / 4.0;
   }
   std::string describe() const override {
-    return "uniform " + range(min_m_, max_m_, unit_for(max_m_));
+    const DisplayUnit u = unit_for(max_m_);
+    if (relative_half_width_ < 0.0) return "uniform " + range(min_m_, max_m_, u);
+    return "uniform " + length(0.5 * (min_m_ + max_m_), u) + " " + u.symbol + " +- " +
+           number(100.0 * relative_half_width_) + " % (" + range(min_m_, max_m_, u) + ")";
   }
 
  private:
   double min_m_;
   double max_m_;
+  double relative_half_width_;
 };
 
 class TruncatedNormal final : public SizeDistribution {
@@ -306,6 +312,20 @@ std::unique_ptr<SizeDistribution> make_monodisperse(double diameter_m) {
 std::unique_ptr<SizeDistribution> make_uniform(double min_diameter_m, double max_diameter_m) {
   require_bounds("uniform", min_diameter_m, max_diameter_m);
   return std::make_unique<Uniform>(min_diameter_m, max_diameter_m);
+}
+
+std::unique_ptr<SizeDistribution> make_uniform_about_mean(double mean_diameter_m,
+                                                          double relative_half_width) {
+  require_diameter("uniform", "mean_diameter_m", mean_diameter_m);
+  // w = 1 would put the smallest particle at zero size.
+  if (!std::isfinite(relative_half_width) || relative_half_width < 0.0 ||
+      relative_half_width >= 1.0)
+    fail("uniform", "relative_half_width (" + number(relative_half_width) +
+                        ") must lie in [0, 1): the diameters span mean_diameter_m * (1 -+ "
+                        "relative_half_width)");
+  return std::make_unique<Uniform>(mean_diameter_m * (1.0 - relative_half_width),
+                                   mean_diameter_m * (1.0 + relative_half_width),
+                                   relative_half_width);
 }
 
 std::unique_ptr<SizeDistribution> make_truncated_normal(double mean_diameter_m,

@@ -28,6 +28,13 @@ class SizeDistribution {
 std::unique_ptr<SizeDistribution> make_monodisperse(double diameter_m);
 // Diameter uniform by number in [min, max].
 std::unique_ptr<SizeDistribution> make_uniform(double min_diameter_m, double max_diameter_m);
+// The same written as a centre and a width: uniform in [mean (1 - w), mean (1 + w)],
+// 0 <= w < 1, so that the width of the distribution is one number a design of
+// experiments can vary while the mean diameter (by number) stays where it is.
+// (The volume-equivalent mean, (mean d^3)^(1/3) = mean (1 + w^2)^(1/3), moves a
+// little: +3.5 % at w = 0.33.)
+std::unique_ptr<SizeDistribution> make_uniform_about_mean(double mean_diameter_m,
+                                                          double relative_half_width);
 // Normal by number, truncated to [min, max] (resampled, not clipped).
 std::unique_ptr<SizeDistribution> make_truncated_normal(double mean_diameter_m,
                                                         double std_dev_m, double min_diameter_m,

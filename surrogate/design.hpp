@@ -8,6 +8,8 @@
 //                    (surrogate/latin_hypercube_design.hpp)
 //   sobol            the first `points` of GSL's Sobol sequence after `skip`
 //                    (surrogate/sobol_design.hpp)
+//   list             the points given, in order (`values`): a refinement chosen
+//                    by hand or by a program, e.g. the diagnosis's runs at a fit
 
 #include "surrogate/full_factorial_design.hpp"
 
@@ -20,9 +22,9 @@
 
 namespace demcal::surrogate {
 
-enum class DesignKind { kFullFactorial, kLatinHypercube, kSobol };
+enum class DesignKind { kFullFactorial, kLatinHypercube, kSobol, kList };
 
-// "full_factorial", "latin_hypercube", "sobol".
+// "full_factorial", "latin_hypercube", "sobol", "list".
 std::string design_kind_name(DesignKind kind);
 std::optional<DesignKind> design_kind_from_name(std::string_view name);
 const std::vector<std::string>& design_kind_names();
@@ -33,6 +35,7 @@ struct DesignSpec {
   std::size_t points = 0;                  // latin_hypercube and sobol
   std::uint64_t seed = 1;                  // latin_hypercube
   std::size_t skip = 0;                    // sobol
+  std::vector<std::vector<double>> values;  // list: rows are points, inside the bounds
 };
 
 struct Design {

@@ -66,8 +66,16 @@ std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& m
   }
   const int p = sim.add_material(particle);
   const int w = sim.add_material(m.wall);
-  sim.set_interaction(p, p, m.particle_particle);
-  sim.set_interaction(p, w, m.particle_wall);
+  // Pull-off (3 pi gamma R*) over weight goes as gamma / R^2: gamma f^2 gives a
+  // parcel of factor f the Bond number of the grains it stands for.
+  const double f = reduction.coarse_graining_factor;
+  InteractionParameters pp = m.particle_particle;
+  InteractionParameters pw = m.particle_wall;
+  pp.surface_energy_j_m2 *= f * f;
+  pw.surface_energy_j_m2 *= f * f;
+  sim.set_interaction(p, p, pp);
+  sim.set_interaction(p, w, pw);
+  if (m.air_drag) sim.add_body_force(std::make_unique<AirDrag>(*m.air_drag, f));
   return {p, w};
 }
 

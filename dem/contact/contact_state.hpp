@@ -4,6 +4,9 @@
 // wall. The engine fills ContactKinematics; the parts fill ContactForce in role
 // order (normal, adhesion, tangential, rolling), each reading what the earlier
 // roles wrote. ContactHistory persists across steps while the contact lasts.
+// A contact starts when the surfaces touch; it ends when they part, unless a
+// part holds it beyond touching (adhesion: see ContactKernel in contact_law.hpp),
+// so parts must accept overlap_m <= 0 for a contact that is held.
 
 #include "dem/vec3.hpp"
 
@@ -11,7 +14,7 @@ namespace demcal::dem {
 
 struct ContactKinematics {
   Vec3 normal;                  // unit, from the partner towards particle i
-  double overlap_m = 0.0;       // > 0 when the surfaces interpenetrate
+  double overlap_m = 0.0;       // > 0 when the surfaces interpenetrate; < 0 only while held
   double radius_eff_m = 0.0;    // R* = Ri Rj / (Ri + Rj); Ri against a wall
   double mass_eff_kg = 0.0;     // m* = mi mj / (mi + mj); mi against a wall
   double lever_i_m = 0.0;       // centre of i to the contact point
@@ -36,7 +39,12 @@ struct ContactHistory {
 struct ContactForce {
   double normal_force_n = 0.0;       // along the normal, positive pushes i away from j
   double normal_stiffness_n_m = 0.0; // tangent stiffness dF/d(overlap), for parts that scale with it
-  double friction_load_n = 0.0;      // the load that bounds Coulomb friction
+  double contact_radius_m = 0.0;     // radius of the contact area (Hertz: sqrt(R* delta)); the
+                                     // tangential spring scales with it
+  // The load that bounds sliding (mu_s) and rolling (mu_r) friction; >= 0.
+  // Equal to normal_force_n for a dry contact; an adhesion part raises it,
+  // since a contact held by adhesion resists sliding under zero or tensile load.
+  double friction_load_n = 0.0;
   Vec3 tangential_force_n;           // on i, at the contact point
   Vec3 torque_i_nm;                  // extra torque on i (rolling resistance)
   Vec3 torque_j_nm;                  // extra torque on j

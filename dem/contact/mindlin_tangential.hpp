@@ -1,9 +1,11 @@
 #pragma once
-// Tangential part: Mindlin's no-slip spring S_t = 8 G* sqrt(R* delta) on the
-// accumulated tangential displacement, damped like the normal direction, and
-// bounded by Coulomb's law |F_t| <= mu_s F_n. While sliding, the spring is
-// shortened to sit on the Coulomb limit and the damper is idle (as in LIGGGHTS),
-// so the friction force equals mu_s F_n exactly.
+// Tangential part: Mindlin's no-slip spring S_t = 8 G* a on the accumulated
+// tangential displacement, a the contact radius the normal and adhesion parts
+// report (Hertz: a = sqrt(R* delta); JKR: its wider adhesive contact), damped
+// like the normal direction, and bounded by Coulomb's law |F_t| <= mu_s F_n,
+// F_n the friction load the earlier parts set (a dry contact's normal force).
+// While sliding, the spring is shortened to sit on the Coulomb limit and the
+// damper is idle (as in LIGGGHTS), so the friction force equals mu_s F_n exactly.
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/contact/hertz_normal.hpp"
@@ -16,11 +18,11 @@ namespace demcal::dem {
 struct MindlinTangential {
   static constexpr const char* kName = "mindlin";
 
-  void apply(const ContactKinematics& k, const PairCoefficients& c, ContactHistory& h,
-             ContactForce& f) const {
+  [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
+                                    ContactHistory& h, ContactForce& f) const {
     Vec3 xi = rotate_into_tangent_plane(h.tangential_displacement_m, k.normal);
     xi += k.tangential_velocity_m_s * k.dt_s;
-    const double stiffness = 8.0 * c.shear_modulus_eff_pa * std::sqrt(k.radius_eff_m * k.overlap_m);
+    const double stiffness = 8.0 * c.shear_modulus_eff_pa * f.contact_radius_m;
     const Vec3 spring = -stiffness * xi;
     const double limit = c.sliding_friction * f.friction_load_n;
     const double spring2 = norm2(spring);

@@ -17,6 +17,8 @@ void InteractionParameters::validate(const std::string& where) const {
     fail("rolling_friction must be >= 0");
   if (!(rolling_stiffness_factor > 0.0)) fail("rolling_stiffness_factor must be > 0");
   if (!(rolling_damping_ratio >= 0.0)) fail("rolling_damping_ratio must be >= 0");
+  if (!(surface_energy_j_m2 >= 0.0) || !std::isfinite(surface_energy_j_m2))
+    fail("surface_energy_j_m2 must be >= 0");
 }
 
 PairCoefficients resolve_pair(const Material& a, const Material& b,
@@ -33,6 +35,7 @@ PairCoefficients resolve_pair(const Material& a, const Material& b,
   c.rolling_friction = p.rolling_friction;
   c.rolling_stiffness_factor = p.rolling_stiffness_factor;
   c.rolling_damping_ratio = p.rolling_damping_ratio;
+  c.surface_energy_j_m2 = p.surface_energy_j_m2;
   return c;
 }
 

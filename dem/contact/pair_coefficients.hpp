@@ -17,6 +17,9 @@ struct InteractionParameters {
   double rolling_stiffness_factor = 2.25;
   // Elastic–plastic spring–dashpot rolling: fraction of critical rolling damping (Ai et al. 2011)
   double rolling_damping_ratio = 0.3;
+  // Surface energy gamma of each surface (J/m^2) for an adhesion part (JKR:
+  // pull-off force 3 pi gamma R*); 0 = no adhesion between this pair.
+  double surface_energy_j_m2 = 0.0;
 
   // Throws std::invalid_argument naming the field (prefixed by `where`).
   void validate(const std::string& where) const;
@@ -41,6 +44,7 @@ struct PairCoefficients {
   double rolling_friction = 0.0;
   double rolling_stiffness_factor = 0.0;
   double rolling_damping_ratio = 0.0;
+  double surface_energy_j_m2 = 0.0;
 };
 
 PairCoefficients resolve_pair(const Material& a, const Material& b,

@@ -2,7 +2,10 @@
 // Rolling parts. Rolling resistance stands in for the shape of real grains
 // (Derakhshani et al. 2015 and most calibration work use it so). Which angular
 // velocity the torque opposes, and which lever arm multiplies mu_r, differs
-// between codes; each part states its choice.
+// between codes; each part states its choice. The load F_n is the contact's
+// friction load (ContactForce::friction_load_n): the normal force of a dry
+// contact, never negative, so an adhesive contact under tension still resists
+// rolling instead of being pushed to roll by a negative limit.
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/contact/pair_coefficients.hpp"
@@ -33,10 +36,10 @@ struct ConstantDirectionalTorque {
   static constexpr const char* kName = "cdt";
   bool own_angular_velocity = false;
 
-  void apply(const ContactKinematics& k, const PairCoefficients& c, ContactHistory& /*h*/,
-             ContactForce& f) const {
-    if (c.rolling_friction == 0.0 || f.normal_force_n == 0.0) return;
-    const double moment = c.rolling_friction * f.normal_force_n;  // per unit lever arm
+  [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
+                                    ContactHistory& /*h*/, ContactForce& f) const {
+    if (c.rolling_friction == 0.0 || f.friction_load_n == 0.0) return;
+    const double moment = c.rolling_friction * f.friction_load_n;  // per unit lever arm
     if (!own_angular_velocity) {
       const Vec3 w = relative_rolling_velocity(k);
       const double wn = norm(w);
@@ -72,14 +75,14 @@ struct ConstantDirectionalTorque {
 struct ElasticPlasticSpringDashpot {
   static constexpr const char* kName = "epsd";
 
-  void apply(const ContactKinematics& k, const PairCoefficients& c, ContactHistory& h,
-             ContactForce& f) const {
+  [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
+                                    ContactHistory& h, ContactForce& f) const {
     if (c.rolling_friction == 0.0) return;
     const double arm = c.rolling_friction * k.radius_eff_m;
     const double stiffness = c.rolling_stiffness_factor * f.normal_stiffness_n_m * arm * arm;
     const Vec3 w = relative_rolling_velocity(k);
     Vec3 spring = rotate_into_tangent_plane(h.rolling_torque_nm, k.normal) - stiffness * k.dt_s * w;
-    const double limit = arm * f.normal_force_n;
+    const double limit = arm * f.friction_load_n;
     const double s2 = norm2(spring);
     Vec3 torque;
     if (s2 > limit * limit) {

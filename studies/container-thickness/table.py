@@ -8,12 +8,23 @@ se_thick^2) (se = seed standard deviation / sqrt(n)), with the seed standard
 deviation pooled over the sweep for a stable estimate. The critical thickness is
 the smallest t from which every thicker point is within the noise.
 
-usage: table.py OUTDIR   (the directory run_thickness_sweep.sh wrote)"""
+usage: table.py OUTDIR [--save]   (the directory run_thickness_sweep.sh wrote)
+
+Runs are deterministic for a seed and thread count, so the AoR of every run
+of the sweep is kept in results.csv beside this script (boundary, t_d, seed,
+aor_deg, and the run's engine version): --save adds the runs of OUTDIR to it,
+and the table is made from both, a run in OUTDIR taking precedence."""
 import json, math, pathlib, re, sys
 from collections import defaultdict
 
+import csv
 out = pathlib.Path(sys.argv[1])
-rows = defaultdict(list)
+save = "--save" in sys.argv[2:]
+kept_file = pathlib.Path(__file__).with_name("results.csv")
+runs = {}  # (boundary, t, seed) -> (aor, engine)
+if kept_file.exists():
+    for r in csv.DictReader(open(kept_file)):
+        runs[(r["boundary"], float(r["t_d"]), int(r["seed"]))] = (float(r["aor_deg"]), r["engine"])
 failed = []
 for f in sorted(out.glob("*_t*_s*/run.json")):
     m = re.match(r"(walls|periodic)_t([0-9.]+)_s(\d+)$", f.parent.name)
@@ -24,7 +35,17 @@ for f in sorted(out.glob("*_t*_s*/run.json")):
     if aor is None:
         failed.append((f.parent.name, r["details"].get("angle_of_repose_error", "?")[:90]))
         continue
-    rows[(m[1], float(m[2]))].append(aor)
+    runs[(m[1], float(m[2]), int(m[3]))] = (aor, str(r.get("engine", {}).get("version", r.get("engine", "")))
+                                            if isinstance(r.get("engine"), dict) else str(r.get("engine", "")))
+if save:
+    with open(kept_file, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["boundary", "t_d", "seed", "aor_deg", "engine"])
+        for (b, t, sd), (aor, eng) in sorted(runs.items()):
+            w.writerow([b, f"{t:g}", sd, f"{aor:.4f}", eng])
+rows = defaultdict(list)
+for (b, t, sd), (aor, _) in sorted(runs.items()):
+    rows[(b, t)].append(aor)
 
 def stats(v):
     n = len(v); mu = sum(v) / n

@@ -157,6 +157,13 @@ TEST(Design, GenerateDispatchesByKind) {
   o.points = 4;
   o.seed = 3;
   EXPECT_EQ(generate_design(spec).points, latin_hypercube_design(spec.parameters, o));
+  spec.kind = DesignKind::kList;
+  spec.values = {{0.5, 1.5}, {0.0, 2.0}};
+  EXPECT_EQ(generate_design(spec).points, spec.values);
+  spec.values = {{0.5, 2.5}};
+  EXPECT_THROW(generate_design(spec), std::invalid_argument);  // outside mu_s's bounds
+  spec.values = {{0.5}};
+  EXPECT_THROW(generate_design(spec), std::invalid_argument);  // one value short
   for (const std::string& name : design_kind_names())
     EXPECT_EQ(design_kind_name(*design_kind_from_name(name)), name);
   EXPECT_FALSE(design_kind_from_name("random"));

@@ -397,6 +397,16 @@ parameters = { mu_r = { lower = 0.1, upper = 0.4, levels = 2 } }
                "parameters = { mu_r = { lower = 0.1, upper = 0.4, levels = 3 } }\n");
   EXPECT_NE(m.find("design.parameters.mu_r.levels: applies only to kind = \"full_factorial\""),
             std::string::npos) << m;
+  // A list design: every point has one value per parameter, inside the bounds.
+  const std::string list = "[design]\nkind = \"list\"\nparameters = { mu_r = { lower = 0.1, upper = 0.4 } }\n";
+  m = error_of(list + "values = [[0.2], [0.5]]\n");
+  EXPECT_NE(m.find("design.values[1]: mu_r = 0.5 is outside its bounds [0.1, 0.4]"), std::string::npos) << m;
+  m = error_of(list + "values = [[0.2, 0.3]]\n");
+  EXPECT_NE(m.find("design.values[0]: expected 1 numbers"), std::string::npos) << m;
+  m = error_of(list);
+  EXPECT_NE(m.find("design.values: expected an array of points"), std::string::npos) << m;
+  m = error_of(header + "values = [[0.2]]\nparameters = { mu_r = { lower = 0.1, upper = 0.4, levels = 2 } }\n");
+  EXPECT_NE(m.find("design.values: applies only to kind = \"list\""), std::string::npos) << m;
   // An override (as for simulate) is checked like the file.
   m = error_of(header + "parameters = { mu_r = { lower = 0.1, upper = 0.4, levels = 2 } }\n",
                {"material.colour=3"});

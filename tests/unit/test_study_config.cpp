@@ -208,6 +208,30 @@ TEST(StudyConfigTest, UnknownApparatusTableIsAnError) {
   expect_error(text, {"apparatus.sandglas", "unknown key", "\"sandglass\""});
 }
 
+TEST(StudyConfigTest, SeveralSetupsOfOneKindTakeNamesAndATypeWithoutChangingRunInputs) {
+  // The sandglass at a second orifice, as a setup of its own.
+  const std::size_t from = std::string(kStudy).find("[apparatus.sandglass]");
+  const std::size_t to = std::string(kStudy).find("\n[", from + 1);
+  std::string second = std::string(kStudy).substr(from, to - from);
+  second = replace(second, "[apparatus.sandglass]", "[apparatus.orifice_24mm]\ntype = \"sandglass\"");
+  second = replace(second, "orifice_diameter_m = 0.02", "orifice_diameter_m = 0.024");
+  const std::string text = std::string(kStudy) + "\n" + second + "\n";
+  StudyConfig s = build(text);
+  ASSERT_EQ(s.apparatus.size(), 4u);
+  EXPECT_EQ(s.apparatus[3].name, "orifice_24mm");
+  EXPECT_EQ(s.apparatus[3].kind, "sandglass");
+  EXPECT_EQ(s.apparatus[3].apparatus->name(), "sandglass");
+  EXPECT_EQ(s.apparatus[0].kind, "sandglass");
+  // A table named after its kind gets no type written in (its runs' inputs, and
+  // so their hashes, are what they were before setups had names).
+  EXPECT_FALSE(s.resolved["apparatus"]["sandglass"]["type"]);
+  EXPECT_DOUBLE_EQ(*s.resolved["apparatus"]["orifice_24mm"]["orifice_diameter_m"].value<double>(), 0.024);
+  const std::string bad = replace(text, "type = \"sandglass\"", "type = \"hourglass\"");
+  expect_error(bad, {at_line(bad, "type = \"hourglass\""), "apparatus.orifice_24mm.type", "\"sandglass\""});
+  const std::string untyped = replace(text, "type = \"sandglass\"\n", "");
+  expect_error(untyped, {"apparatus.orifice_24mm", "type = \"<kind>\""});
+}
+
 TEST(StudyConfigTest, MissingDimensionIsAnError) {
   const std::string text = replace(kStudy, "drop_height_m = 0.08\n", "");
   expect_error(text, {at_line(text, "[apparatus.sandglass]"), "apparatus.sandglass.drop_height_m",

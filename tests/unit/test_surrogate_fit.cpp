@@ -245,6 +245,25 @@ TEST(RecordingsCsv, ReadsValidRowsAndRefusesBadOnesWithTheReason) {
   refused("sandglass,angle_of_repose_deg,41,0,deg", "sigma: expected a number > 0");
   refused("sandglass,angle_of_repose_deg,forty,1,deg", "value: expected a finite number");
   refused("sandglass,discharge_time_s,6.5,0.1,ms", "unit \"ms\" does not fit discharge_time_s");
+
+  // The optional repeats column: how many tests a value is the mean of.
+  write(dir.path / "rep.csv",
+        "setup,observable,value,sigma,unit,repeats\nsandglass,angle_of_repose_deg,41.57,0.5,deg,5\n");
+  const auto rep = cli::read_recordings_csv(dir.path / "rep.csv", setups);
+  ASSERT_EQ(rep.size(), 1u);
+  EXPECT_EQ(rep[0].repeats, 5);
+  EXPECT_EQ(r[0].repeats, 1);
+  for (const char* bad : {"0", "2.5", "many"}) {
+    write(dir.path / "rep.csv",
+          std::string("setup,observable,value,sigma,unit,repeats\nsandglass,angle_of_repose_deg,41.57,0.5,deg,") + bad +
+              "\n");
+    try {
+      cli::read_recordings_csv(dir.path / "rep.csv", setups);
+      ADD_FAILURE() << bad;
+    } catch (const cli::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("rep.csv:2: repeats"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

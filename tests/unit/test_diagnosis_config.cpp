@@ -1,0 +1,97 @@
+// The [diagnosis] table and the candidate registry of `demcal diagnose`: bad
+// input is refused with the file, line and key before anything runs, and every
+// candidate's switches and keys are ones a study accepts.
+
+#include "cli/physics_candidates.hpp"
+#include "cli/study_config.hpp"
+#include "cli/toml_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace demcal::cli {
+namespace {
+
+std::string tiny_study() {
+  std::ifstream in(std::filesystem::path(DEMCAL_SOURCE_DIR) / "tests/data/doe-tiny/study.toml");
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+StudyConfig build(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  ConfigDocument doc = parse_config_string(text, "diag.toml");
+  for (const auto& o : overrides) apply_override(doc, o, study_override_aliases());
+  return build_study(std::move(doc));
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    build(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DiagnosisConfig, DefaultsAndOverridesAreRead) {
+  const StudyConfig s = build(tiny_study() + "\n[diagnosis]\nalpha = 0.05\nleading = 1\n"
+                                             "[diagnosis.cohesion]\nupper = 0.01\nprobe = 0.004\n");
+  ASSERT_TRUE(s.diagnosis);
+  EXPECT_EQ(s.diagnosis->candidates, physics_candidate_names());
+  EXPECT_DOUBLE_EQ(s.diagnosis->alpha, 0.05);
+  EXPECT_EQ(s.diagnosis->leading, 1);
+  EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").upper, 0.01);
+  EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").probe, 0.004);
+  // [diagnosis] does not enter a run's inputs (so not its hash).
+  EXPECT_FALSE(resolved_for(s, "rectangular_container")["diagnosis"]);
+}
+
+TEST(DiagnosisConfig, BadInputNamesTheKey) {
+  std::string m = error_of(tiny_study() + "\n[diagnosis]\ncandidates = [\"gravity\"]\n");
+  EXPECT_NE(m.find("diagnosis.candidates"), std::string::npos) << m;
+  EXPECT_NE(m.find("\"cohesion\""), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\nhold_out = [\"hopper\"]\n");
+  EXPECT_NE(m.find("diagnosis.hold_out"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\nhold_out = [\"rectangular_container\"]\n");
+  EXPECT_NE(m.find("holds out every setup"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\nalpha = 0.7\n");
+  EXPECT_NE(m.find("diagnosis.alpha"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis.cohesion]\nlower = 0.01\nupper = 0.001\n");
+  EXPECT_NE(m.find("diagnosis.cohesion.upper"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\ncolour = 1\n");
+  EXPECT_NE(m.find("diagnosis.colour: unknown key"), std::string::npos) << m;
+}
+
+TEST(PhysicsCandidates, EverySwitchAndKeyIsAcceptedByAStudy) {
+  // The size spread needs the mean form of the size distribution.
+  std::string text = tiny_study();
+  const std::string minmax = "size = { distribution = \"uniform\", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 }";
+  ASSERT_NE(text.find(minmax), std::string::npos);
+  text.replace(text.find(minmax), minmax.size(),
+               "size = { distribution = \"uniform\", mean_diameter_m = 4.5e-4, relative_half_width = 0.333 }");
+  for (const auto& c : physics_candidates()) {
+    SCOPED_TRACE(c.name);
+    std::vector<std::string> overrides;
+    for (const auto& [k, v] : c.switches) overrides.push_back(k + "=\"" + v + "\"");
+    for (const auto& k : c.keys) {
+      std::ostringstream s;
+      s << k << "=" << (c.lower + c.upper) / 2;
+      overrides.push_back(s.str());
+    }
+    EXPECT_NO_THROW(build(text, overrides));
+    EXPECT_LT(c.lower, c.upper);
+    if (c.off_value) {
+      EXPECT_GE(*c.off_value, c.lower);
+      EXPECT_LE(*c.off_value, c.upper);
+      EXPECT_NE(c.probe, *c.off_value);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace demcal::cli
