@@ -21,15 +21,6 @@ constexpr std::int64_t kMaxPoints = 100000;
 constexpr std::int64_t kMaxLevels = 1000;
 constexpr double kMaxFactorialPoints = 1e6;
 
-// A TOML key as it would be written: bare when it can be, else quoted.
-std::string toml_key_text(const std::string& key) {
-  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-           c == '-';
-  });
-  return bare ? key : "\"" + key + "\"";
-}
-
 std::string first_segment(const std::string& path) {
   return path.substr(0, std::min(path.find_first_of(".["), path.size()));
 }
@@ -44,6 +35,14 @@ std::string without_file_prefix(const std::string& message, const std::string& f
   if (pos < message.size() && message[pos] == ':') ++pos;
   while (pos < message.size() && message[pos] == ' ') ++pos;
   return message.substr(pos);
+}
+
+std::string toml_key_text(const std::string& key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+  return bare ? key : "\"" + key + "\"";
 }
 
 std::string shortest_decimal(double v) {

@@ -55,6 +55,9 @@ struct DesignConfig {
 std::optional<DesignConfig> read_design(const reader::Context& ctx, reader::Table& root,
                                         toml::table& top);
 
+// A TOML key as it would be written: bare when it can be, else quoted.
+std::string toml_key_text(const std::string& key);
+
 // The shortest decimal text that reads back as exactly `v` ("0.1", "1e-05", "3").
 std::string shortest_decimal(double v);
 

@@ -75,12 +75,6 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study, c
   return r;
 }
 
-std::string toml_key(const std::string& k) {
-  const bool bare = !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-  });
-  return bare ? k : "\"" + k + "\"";
-}
 
 // The study with the candidate switched on (at its "off" value, so that the
 // parameter's key exists) and a [design] of its own, as TOML text. The design
@@ -108,9 +102,9 @@ std::string derived_study(const StudySource& source, const std::string& name, co
   s << toml::toml_formatter(t) << "\n\n[design]\n" << design_body;
   s << "parameters = { ";
   for (const auto& p : base)
-    s << toml_key(p.name) << " = { lower = " << shortest_decimal(p.lower) << ", upper = " << shortest_decimal(p.upper)
+    s << toml_key_text(p.name) << " = { lower = " << shortest_decimal(p.lower) << ", upper = " << shortest_decimal(p.upper)
       << " }, ";
-  s << toml_key(c.entry->keys.front()) << " = { lower = " << shortest_decimal(c.lower)
+  s << toml_key_text(c.entry->keys.front()) << " = { lower = " << shortest_decimal(c.lower)
     << ", upper = " << shortest_decimal(c.upper) << " } }\n";
   return s.str();
 }
