@@ -1,6 +1,7 @@
 #include "cli/calibrate_command.hpp"
 
 #include "calibrate/calibration.hpp"
+#include "calibrate/confidence_region.hpp"
 #include "calibrate/report/calibration_report.hpp"
 #include "cli/calibration_config.hpp"
 #include "cli/calibration_targets.hpp"
@@ -68,7 +69,19 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
     if (cc.reference_point.size() != params.size())
       throw ConfigError(study.file + ": [calibration] reference_point has " + std::to_string(cc.reference_point.size()) +
                         " values; expected one per [design] parameter (" + std::to_string(params.size()) + ")");
-    ro.references.push_back({cc.reference_label, cc.reference_point});
+    calibrate::ReferencePoint ref{cc.reference_label, cc.reference_point};
+    const Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(cc.reference_point.data(),
+                                                                    static_cast<Eigen::Index>(cc.reference_point.size()));
+    const auto place = [&](const std::vector<calibrate::Target>& targets, const calibrate::CalibrationResult& r,
+                           double& delta, bool& inside) {
+      if (!r.region.available) return;
+      const calibrate::CalibrationProblem problem(params, targets);
+      delta = problem.chi_squared(theta) - r.region.chi_squared_min;
+      inside = calibrate::region_contains(problem, r.region, theta);
+    };
+    place(all, joint, ref.delta_chi_square_joint, ref.inside_joint);
+    if (alone) place(single, *alone, ref.delta_chi_square_alone, ref.inside_alone);
+    ro.references.push_back(ref);
   }
   if (!cc.verify.empty() && !joint.minima.empty()) {
     // Another study's apparatus at the calibrated point: the paper verified

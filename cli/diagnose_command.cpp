@@ -120,6 +120,7 @@ DoeOutcome run_derived(const fs::path& file, const std::string& text, const Diag
   DoeOptions d;
   d.study = file;
   d.output_dir = o.output_dir;
+  d.run_store = o.run_store;
   d.jobs = o.jobs;
   d.quiet = o.quiet;
   return run_doe(d, out, log);
@@ -332,6 +333,7 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
   so.doe.study = o.study;
   so.doe.overrides = o.overrides;
   so.doe.output_dir = o.output_dir;
+  so.doe.run_store = o.run_store;
   so.doe.jobs = o.jobs;
   so.doe.quiet = o.quiet;
   if (run_study(so, out, log).empty()) {
@@ -371,12 +373,12 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
   std::size_t executed = 0;
   if (detection.mismatch()) {
     const StudySource source = StudySource::read(o.study, o.overrides);
-    // The base fit, snapped to 1/200 of each range so that a diagnosis of
-    // slightly different recordings reuses the probe runs.
+    // The base fit, snapped to 1/probe_grid of each range so that a diagnosis
+    // of slightly different recordings reuses the probe runs.
     const calibrate::CalibrationProblem problem(bounds, targets);
     Eigen::VectorXd theta = base.minima.at(0).theta;
     for (std::size_t k = 0; k < bounds.size(); ++k) {
-      const double step = (bounds[k].upper - bounds[k].lower) / 200.0;
+      const double step = (bounds[k].upper - bounds[k].lower) / dc.probe_grid;
       const auto i = static_cast<Eigen::Index>(k);
       theta(i) = std::clamp(bounds[k].lower + std::round((theta(i) - bounds[k].lower) / step) * step, bounds[k].lower,
                             bounds[k].upper);
@@ -429,7 +431,9 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
     // 4. Extended designs for the leading candidates by the score test.
     calibrate::ScoreOptions so_opts;
     so_opts.alpha = dc.alpha;
-    const auto ranked = calibrate::rank_candidates(problem, theta, signatures, so_opts);
+    // At the base fit itself: the probes measured the sensitivities at the
+    // snapped point, which is close enough for a smooth response.
+    const auto ranked = calibrate::rank_candidates(problem, base.minima.at(0).theta, signatures, so_opts);
     int extended = 0;
     for (const auto& s : ranked) {
       if (extended >= dc.leading || s.status != calibrate::ScoreStatus::assessed) continue;

@@ -40,6 +40,7 @@ struct DiagnoseOptions {
   std::filesystem::path study;
   std::vector<std::string> overrides;
   std::filesystem::path output_dir = "out";
+  std::filesystem::path run_store;  // empty: each study's own; else shared by all (DoeOptions)
   int jobs = 2;
   bool quiet = false;
 };

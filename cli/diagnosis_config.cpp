@@ -19,6 +19,7 @@ std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::ve
   c.probe_replicates = static_cast<int>(t.integer_or("probe_replicates", 2, 1, 100));
   c.leading = static_cast<int>(t.integer_or("leading", 2, 1, 10));
   c.extended_points = static_cast<int>(t.integer_or("extended_points", 16, 4, 10000));
+  c.probe_grid = static_cast<int>(t.integer_or("probe_grid", 200, 2, 100000));
   c.bayes_factor_threshold = t.number_or("bayes_factor_threshold", 10.0, reader::at_least(1.0));
   for (const auto& name : names) {
     if (!t.has(name)) continue;

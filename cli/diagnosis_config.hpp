@@ -13,6 +13,10 @@
 //   leading = 2                       # candidates that get an extended design, 1..10
 //   extended_points = 16              # Latin hypercube points in (parameters, candidate), 4..10000
 //   bayes_factor_threshold = 10       # the best candidate must beat the base model by this
+//   probe_grid = 200                  # the probes run at the base fit snapped to 1/probe_grid of
+//                                     #   each range, 2..100000: diagnoses of nearly equal
+//                                     #   recordings (noise seeds) share the probe runs; a coarse
+//                                     #   grid trades a probe slightly off the fit for that
 //   [diagnosis.cohesion]              # opt, per candidate: its range and probe value
 //   lower = 0.0
 //   upper = 5e-3
@@ -39,6 +43,7 @@ struct DiagnosisConfig {
   int leading = 2;
   int extended_points = 16;
   double bayes_factor_threshold = 10.0;
+  int probe_grid = 200;
   std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides
   std::size_t line = 0;
 };

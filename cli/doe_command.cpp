@@ -172,7 +172,7 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
                               : "";
   DoeOutcome outcome;
   outcome.study_dir = options.output_dir / plan.study_name;
-  outcome.runs_dir = outcome.study_dir / "runs";
+  outcome.runs_dir = options.run_store.empty() ? outcome.study_dir / "runs" : options.run_store;
   outcome.rows = plan.rows.size();
   outcome.runs = plan.runs.size();
   const RunStore store(outcome.runs_dir);

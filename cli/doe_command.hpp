@@ -4,6 +4,7 @@
 // (cli/run_store.hpp) and writes the campaign's table (cli/doe_table.hpp).
 //
 //   <output>/<study name>/runs/<hash>.json   one run record per distinct run
+//                                            (or --run-store DIR/<hash>.json)
 //   <output>/<study name>/doe.csv, doe.json  the table (not by a shard)
 // <output> is --output, else "out" (as `demcal simulate` writes
 // out/<study>/<apparatus>); the study's [output] directory names one run's
@@ -72,6 +73,12 @@ struct DoeOptions {
   std::vector<std::string> apparatus;  // empty: every apparatus of the study
   std::optional<Shard> shard;
   std::filesystem::path output_dir = "out";
+  // Where the run records go; empty: <output>/<study name>/runs. A run's file
+  // is named by the hash of everything that determines it, and [study] (name,
+  // seed, threads) is not in that hash, so several studies of the same
+  // apparatus (a study and its variants, the diagnosis' derived studies, the
+  // concealed-effect studies) can share one store and run each point once.
+  std::filesystem::path run_store;
   int threads_per_run = 1;
   bool quiet = false;     // no line per run
   bool progress = false;  // a progress bar on `log` (a terminal) instead of lines per run

@@ -97,6 +97,7 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
   if (failed_rows + missing_rows > 0)
     outcome.warnings.push_back(c.table.file + ": " + std::to_string(failed_rows) + " failed and " +
                                std::to_string(missing_rows) + " missing runs are left out of the fit");
+  std::set<std::string> fitted_names;
   for (const auto& apparatus : apparatus_in(c.table)) {
     for (std::size_t k = 0; k < c.table.observable_names.size(); ++k) {
       const std::string& name = c.table.observable_names[k];
@@ -107,12 +108,8 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       auto data = data_for(c, apparatus, static_cast<int>(k));
       std::size_t finite = 0;
       for (Eigen::Index i = 0; i < data.y.size(); ++i) finite += std::isfinite(data.y(i));
-      if (finite == 0) {
-        if (!config.observables.empty())
-          throw ConfigError(c.study.file + ": [surrogate] observables lists " + name + ", but no run of " +
-                            apparatus + " in " + c.table.file + " measured it");
-        continue;  // this apparatus does not measure it
-      }
+      if (finite == 0) continue;  // this apparatus does not measure it (a container has no discharge time)
+      fitted_names.insert(name);
       surrogate::FittedSurrogate f;
       try {
         f = surrogate::fit_surrogate(data, config.spec);
@@ -137,6 +134,10 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       }
     }
   }
+  for (const auto& name : config.observables)
+    if (!fitted_names.count(name))
+      throw ConfigError(c.study.file + ": [surrogate] observables lists " + name + ", but no run in " +
+                        c.table.file + " measured it");
   if (outcome.files.empty()) throw ConfigError(c.table.file + ": no observable with data to fit");
   for (const auto& w : outcome.warnings) log << "warning: " << w << "\n";
   for (const auto& f : outcome.files) out << "surrogate: " << f.string() << "\n";

@@ -96,6 +96,10 @@ int main(int argc, char** argv) {
   doe_cmd->add_option("--output", doe_opts.output_dir,
                       "Directory holding <study name>/runs and the tables")
       ->capture_default_str();
+  const char* run_store_help =
+      "Keep the run records in DIR instead of <output>/<study>/runs: one store shared by several studies "
+      "of the same apparatus (runs are named by the hash of their inputs, which leaves [study] out)";
+  doe_cmd->add_option("--run-store", doe_opts.run_store, run_store_help);
   doe_cmd->add_option("--threads-per-run", doe_opts.threads_per_run,
                       "OpenMP threads of each run (part of each run's key)")
       ->check(CLI::Range(1, 4096))
@@ -154,6 +158,7 @@ int main(int argc, char** argv) {
   study_cmd->add_option("--jobs,-j", study_opts.doe.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
   study_cmd->add_option("--output", study_opts.doe.output_dir, "Directory holding <study name>/")->capture_default_str();
   study_cmd->add_option("--set", study_opts.doe.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+  study_cmd->add_option("--run-store", study_opts.doe.run_store, run_store_help);
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
   study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
 
@@ -167,6 +172,8 @@ int main(int argc, char** argv) {
   diagnose_cmd->add_option("--jobs,-j", diag_opts.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
   diagnose_cmd->add_option("--output", diag_opts.output_dir, "Directory holding <study name>/")->capture_default_str();
   diagnose_cmd->add_option("--set", diag_opts.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+  diagnose_cmd->add_option("--run-store", diag_opts.run_store,
+                           std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
 
   try {

@@ -6,10 +6,10 @@ const std::vector<PhysicsCandidate>& physics_candidates() {
   // Ranges: what is physically plausible for dry to damp sand of 0.3-0.6 mm.
   // Cohesion: a Bond number (pull-off force / weight) of about 1 for a 0.45 mm
   // quartz grain is gamma ~ 1e-3 J/m2; 5e-3 is a damp, visibly cohesive sand.
-  // Air drag (dem/air_drag.hpp) is not a candidate yet: its strength has no
-  // parameter whose value switches it off ([air] drag = "none" does; density
-  // > 0 is required and Stokes drag does not depend on it) -- a drag scale
-  // factor in [air] would make it one.
+  // Air drag: [air] drag_scale multiplies Schiller–Naumann's still-air drag
+  // (dem/air_drag.hpp), so 0 is "off" and 1 an isolated smooth sphere; below
+  // 1 stands for drag screened in a dense stream, and up to 3 leaves room for
+  // angular grains, which settle slower than spheres of their volume.
   static const std::vector<PhysicsCandidate> all = {
       {"cohesion",
        "cohesion (JKR surface energy between grains and with the walls)",
@@ -29,6 +29,15 @@ const std::vector<PhysicsCandidate>& physics_candidates() {
        0.05,
        1.0,
        0.0},  // probe: set from the study's value (see diagnose_command.cpp)
+      {"air_drag",
+       "air drag on the grains (still air, Schiller-Naumann), scaled",
+       "drag_scale",
+       {"air.drag_scale"},
+       {{"air.drag", "schiller_naumann"}},
+       0.0,
+       0.0,
+       3.0,
+       1.5},
       {"size_spread",
        "a wider or narrower size distribution (relative half-width about the mean diameter)",
        "size_relative_half_width",

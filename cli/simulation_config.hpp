@@ -56,6 +56,11 @@
 //                                         #   drag of still air on every particle
 //   density_kg_m3 = 1.2                   # opt, > 0
 //   dynamic_viscosity_pa_s = 1.8e-5       # opt, > 0
+//   drag_scale = 1.0                      # opt, >= 0: multiplies the whole drag; the strength
+//                                         #   `demcal diagnose` varies: 1 = still air as
+//                                         #   Schiller-Naumann gives it, 0 = off, between = a
+//                                         #   partial effect (e.g. drag screened in a dense
+//                                         #   stream); not written in when absent
 //
 //   [[wall]]
 //   type = "plane"                        # see below for each type's geometry keys

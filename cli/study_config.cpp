@@ -175,6 +175,7 @@ const OverrideAliases& study_override_aliases() {
       {"surface_energy", "interaction.particle_particle.surface_energy_j_m2"},
       {"surface_energy_wall", "interaction.particle_wall.surface_energy_j_m2"},
       {"size_spread", "material.size.relative_half_width"},
+      {"drag_scale", "air.drag_scale"},
   };
   return aliases;
 }

@@ -71,6 +71,11 @@
 //                                         #   drag of still air on every particle
 //   density_kg_m3 = 1.2                   # opt, > 0
 //   dynamic_viscosity_pa_s = 1.8e-5       # opt, > 0
+//   drag_scale = 1.0                      # opt, >= 0: multiplies the whole drag; the strength
+//                                         #   `demcal diagnose` varies: 1 = still air as
+//                                         #   Schiller-Naumann gives it, 0 = off, between = a
+//                                         #   partial effect (e.g. drag screened in a dense
+//                                         #   stream); not written in when absent
 //
 //   [protocol]                            # opt, every key opt; defaults from dem::RunProtocol
 //   rest_speed_m_s = 5e-3                 # "at rest": rms speed below this (> 0),
@@ -156,6 +161,7 @@
 //   surface_energy           interaction.particle_particle.surface_energy_j_m2
 //   surface_energy_wall      interaction.particle_wall.surface_energy_j_m2
 //   size_spread              material.size.relative_half_width (the mean_diameter_m form)
+//   drag_scale               air.drag_scale
 // A design names them the same way ([design] parameters = { size_spread = {...} }).
 //
 // The resolved config a run records (resolved_for) holds only the apparatus

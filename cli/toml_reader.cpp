@@ -194,6 +194,10 @@ std::optional<dem::AirProperties> read_air(Table& t) {
   air.density_kg_m3 = t.number_or("density_kg_m3", air.density_kg_m3, above(0));
   air.dynamic_viscosity_pa_s =
       t.number_or("dynamic_viscosity_pa_s", air.dynamic_viscosity_pa_s, above(0));
+  // The strength the diagnosis varies (1 = Schiller–Naumann's still air, 0 =
+  // off, between: a partial effect such as drag screened in a dense stream).
+  // Not written in when absent: configs without it resolve (and hash) as before.
+  if (t.has("drag_scale")) air.drag_scale = t.number("drag_scale", at_least(0));
   t.finish();
   if (drag == "none") return std::nullopt;
   return air;

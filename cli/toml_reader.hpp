@@ -473,7 +473,8 @@ std::string read_run_name(Table& t, std::string_view key);
 //                 surface_energy_j_m2 (opt, >= 0; not written in when absent)
 //   contact:      normal, adhesion (opt), tangential, rolling, cdt_own_angular_velocity (opt)
 //   air:          drag (opt, "none" | "schiller_naumann"), density_kg_m3 (opt, > 0),
-//                 dynamic_viscosity_pa_s (opt, > 0); calls finish(); the air when drag is on
+//                 dynamic_viscosity_pa_s (opt, > 0), drag_scale (opt, >= 0; not written
+//                 in when absent); calls finish(); the air when drag is on
 void read_material_properties(Table& t, dem::Material& m);
 dem::InteractionParameters read_interaction(Table& t);
 dem::ContactLawSpec read_contact(Table& t);

@@ -12,6 +12,10 @@
 // (a grain in a packing feels the drag of an isolated sphere: fine for free
 // fall and thin streams, an overestimate in dense flow).
 //
+// AirDrag multiplies this force by AirProperties::drag_scale: the strength
+// parameter the missing-physics diagnosis (`demcal diagnose`) varies, since
+// drag = "none" | "schiller_naumann" alone has no value that switches it off.
+//
 // Coarse graining: a parcel of factor f stands for f^3 grains. Its drag is
 // computed for the original grain, diameter d / f, at the parcel's velocity,
 // and multiplied by f^3, so drag per unit mass, and with it the terminal
@@ -28,6 +32,10 @@ namespace demcal::dem {
 struct AirProperties {
   double density_kg_m3 = 1.2;  // dry air near 20 C, sea level
   double dynamic_viscosity_pa_s = 1.8e-5;
+  // Dimensionless, >= 0: 1 = still air as Schiller–Naumann gives it, 0 = no
+  // drag at all; values between stand for a partial effect (e.g. drag screened
+  // in a dense stream), above for more drag than an isolated sphere feels.
+  double drag_scale = 1.0;
 
   // Throws std::invalid_argument naming the field.
   void validate() const;
@@ -36,7 +44,8 @@ struct AirProperties {
 // Schiller–Naumann's C_d Re / 24: 1 + 0.15 Re^0.687 below Re = 1000, 0.44 Re / 24 above.
 double schiller_naumann_drag_factor(double reynolds);
 
-// The drag on one sphere of `diameter_m` moving at `velocity_m_s` through still air.
+// The drag on one sphere of `diameter_m` moving at `velocity_m_s` through still air,
+// Schiller–Naumann's unscaled (AirDrag applies air.drag_scale).
 Vec3 sphere_drag_force_n(const AirProperties& air, double diameter_m, const Vec3& velocity_m_s);
 
 class AirDrag final : public BodyForce {

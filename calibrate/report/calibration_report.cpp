@@ -189,6 +189,23 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     page.raw_html(html);
     summary["statements"] = text;
   }
+  summary["references"] = nlohmann::json::array();
+  for (const auto& ref : o.references) {
+    const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    summary["references"].push_back({{"label", ref.label},
+                                     {"theta", ref.theta},
+                                     {"delta_chi_square_joint", number(ref.delta_chi_square_joint)},
+                                     {"inside_joint", ref.inside_joint},
+                                     {"delta_chi_square_alone", number(ref.delta_chi_square_alone)},
+                                     {"inside_alone", ref.inside_alone}});
+    if (!std::isfinite(ref.delta_chi_square_joint)) continue;
+    std::string t = ref.label + ": chi² − chi²_min = " + num(ref.delta_chi_square_joint, 3) + " (" + jl + ", " +
+                    (ref.inside_joint ? "inside" : "outside") + " its 95 % region)";
+    if (std::isfinite(ref.delta_chi_square_alone))
+      t += ", " + num(ref.delta_chi_square_alone, 3) + " (" + al + ", " + (ref.inside_alone ? "inside" : "outside") +
+           ")";
+    page.paragraph(t + ".");
+  }
   for (const auto& r : o.remarks) page.paragraph(r);
   for (const auto& n : joint.notes) page.paragraph(jl + ": " + n);
   if (alone)

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ namespace demcal::calibrate {
 struct ReferencePoint {
   std::string label;  // e.g. "paper (0.3, 0.52)" or "truth"
   std::vector<double> theta;
+  // chi^2(theta) - chi^2_min of each calibration (NaN: not evaluated), and
+  // whether theta lies in its 95 % likelihood-ratio region: what a recovery
+  // check of synthetic recordings asks.
+  double delta_chi_square_joint = std::numeric_limits<double>::quiet_NaN();
+  double delta_chi_square_alone = std::numeric_limits<double>::quiet_NaN();
+  bool inside_joint = false, inside_alone = false;
 };
 
 struct CalibrationReportOptions {

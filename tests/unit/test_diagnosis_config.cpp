@@ -2,6 +2,7 @@
 // input is refused with the file, line and key before anything runs, and every
 // candidate's switches and keys are ones a study accepts.
 
+#include "cli/design_config.hpp"
 #include "cli/physics_candidates.hpp"
 #include "cli/study_config.hpp"
 #include "cli/toml_reader.hpp"
@@ -45,6 +46,7 @@ TEST(DiagnosisConfig, DefaultsAndOverridesAreRead) {
   EXPECT_EQ(s.diagnosis->candidates, physics_candidate_names());
   EXPECT_DOUBLE_EQ(s.diagnosis->alpha, 0.05);
   EXPECT_EQ(s.diagnosis->leading, 1);
+  EXPECT_EQ(s.diagnosis->probe_grid, 200);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").upper, 0.01);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").probe, 0.004);
   // [diagnosis] does not enter a run's inputs (so not its hash).
@@ -63,6 +65,8 @@ TEST(DiagnosisConfig, BadInputNamesTheKey) {
   EXPECT_NE(m.find("diagnosis.alpha"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis.cohesion]\nlower = 0.01\nupper = 0.001\n");
   EXPECT_NE(m.find("diagnosis.cohesion.upper"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\nprobe_grid = 1\n");
+  EXPECT_NE(m.find("diagnosis.probe_grid"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis]\ncolour = 1\n");
   EXPECT_NE(m.find("diagnosis.colour: unknown key"), std::string::npos) << m;
 }
@@ -91,6 +95,50 @@ TEST(PhysicsCandidates, EverySwitchAndKeyIsAcceptedByAStudy) {
       EXPECT_NE(c.probe, *c.off_value);
     }
   }
+}
+
+TEST(PhysicsCandidates, AirDragIsOneWhoseDerivedStudyBuildsWithoutAnAirTable) {
+  const PhysicsCandidate* c = find_physics_candidate("air_drag");
+  ASSERT_NE(c, nullptr);
+  ASSERT_TRUE(c->off_value);
+  EXPECT_EQ(*c->off_value, 0.0);
+  EXPECT_EQ(c->parameter, "drag_scale");
+  EXPECT_EQ(c->keys, std::vector<std::string>{"air.drag_scale"});
+  const std::vector<std::pair<std::string, std::string>> on = {{"air.drag", "schiller_naumann"}};
+  EXPECT_EQ(c->switches, on);
+  EXPECT_EQ(c->lower, 0.0);
+  EXPECT_EQ(c->upper, 3.0);
+  EXPECT_EQ(c->probe, 1.5);
+  // What diagnose's derived_study() writes for a probe: the study (here one
+  // without [air]) with the switch and the key set at "off" as set_config_value
+  // does, and a list design over (mu_r, the candidate's key).
+  ASSERT_EQ(tiny_study().find("[air]"), std::string::npos);
+  ConfigDocument doc = parse_config_string(tiny_study(), "diag.toml");
+  for (const char* k : {"design", "calibration", "diagnosis", "output"}) doc.table.erase(k);
+  for (const auto& [key, value] : c->switches)
+    set_config_value(doc, key, toml::value<std::string>(value), "diagnosis air_drag");
+  for (const auto& key : c->keys)
+    set_config_value(doc, key, toml::value<double>(*c->off_value), "diagnosis air_drag");
+  std::ostringstream text;
+  text << toml::toml_formatter(doc.table) << "\n\n[design]\nkind = \"list\"\nreplicates = 1\n"
+       << "values = [[0.25, " << shortest_decimal(c->probe) << "]]\nparameters = { mu_r = { lower = 0.1, "
+       << "upper = 0.4 }, " << toml_key_text(c->keys.front()) << " = { lower = " << shortest_decimal(c->lower)
+       << ", upper = " << shortest_decimal(c->upper) << " } }\n";
+  const StudyConfig derived = build(text.str());
+  ASSERT_TRUE(derived.material.air_drag.has_value()) << text.str();
+  EXPECT_EQ(derived.material.air_drag->drag_scale, 0.0);
+  ASSERT_TRUE(derived.design.has_value());
+  EXPECT_EQ(derived.design->parameter_paths.back(), "air.drag_scale");
+  const StudySource source{"diag.toml", text.str(), {}};
+  EXPECT_NO_THROW(check_design_bounds(source, *derived.design));
+  ConfigDocument probe = source.document();
+  apply_design_values(probe, *derived.design, {0.25, c->probe}, "design point 0");
+  const StudyConfig at_probe = build_study(std::move(probe));
+  ASSERT_TRUE(at_probe.material.air_drag.has_value());
+  EXPECT_EQ(at_probe.material.air_drag->drag_scale, 1.5);
+  // build_study built the apparatus, and with it the AirDrag (which validates the scale).
+  ASSERT_FALSE(at_probe.apparatus.empty());
+  EXPECT_NE(at_probe.apparatus.front().apparatus, nullptr);
 }
 
 }  // namespace

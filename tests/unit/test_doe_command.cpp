@@ -174,6 +174,25 @@ TEST_F(DoeCommandTest, ASecondRunReusesEveryRunAndRewritesTheSameTable) {
   EXPECT_EQ(store_of(*reference_), before);
 }
 
+TEST_F(DoeCommandTest, AnotherStudyOfTheSameApparatusSharesTheRunStore) {
+  // [study] is not in a run's hash: a study renamed (a variant, a concealed-
+  // effect study, a diagnosis' derived study) pointed at the same store runs nothing.
+  const fs::path dir = fresh_dir("shared");
+  DoeOptions o = options_for(dir, 2);
+  o.overrides = {"study.name=doe-tiny-variant"};
+  o.run_store = *reference_ / "doe-tiny" / "runs";
+  const auto before = store_of(*reference_);
+  const DoeOutcome r = run(o);
+  EXPECT_EQ(r.executed, 0u);
+  EXPECT_EQ(r.reused, 4u);
+  EXPECT_EQ(r.runs_dir, o.run_store);
+  EXPECT_EQ(r.study_dir, dir / "doe-tiny-variant");
+  EXPECT_FALSE(fs::exists(dir / "doe-tiny-variant" / "runs"));
+  EXPECT_EQ(slurp(r.table_csv), slurp(reference_outcome_->table_csv));
+  EXPECT_EQ(store_of(*reference_), before);
+  fs::remove_all(dir);
+}
+
 TEST_F(DoeCommandTest, OneJobAndTwoJobsGiveTheSameStore) {
   const fs::path dir = fresh_dir("jobs1");
   const DoeOutcome r = run(options_for(dir, 1));

@@ -5,6 +5,7 @@
 // the run store's hashes of existing studies do not change).
 
 #include "cli/design_config.hpp"
+#include "cli/run_store.hpp"
 #include "cli/simulation_config.hpp"
 #include "cli/study_config.hpp"
 #include "dem/size_distribution.hpp"
@@ -187,6 +188,51 @@ TEST(PhysicsModuleKeys, AirTableMistakesAreRefusedAtTheirKeys) {
   expect_error(kStudy, {"air.drag", "\"schiller_naumann\"", "got \"stokes\""}, {"air.drag=stokes"});
 }
 
+TEST(PhysicsModuleKeys, DragScaleReachesTheDragAndIsWrittenInOnlyWhenGiven) {
+  const std::string air = std::string(kStudy) + "\n[air]\ndrag = \"schiller_naumann\"\n";
+  StudyConfig s = build(air + "drag_scale = 0.5\n");
+  ASSERT_TRUE(s.material.air_drag.has_value());
+  EXPECT_DOUBLE_EQ(s.material.air_drag->drag_scale, 0.5);
+  EXPECT_EQ(s.resolved["air"]["drag_scale"].value<double>(), 0.5);
+  EXPECT_FALSE(build(air).resolved["air"]["drag_scale"]);
+  // The alias, and the diagnosis' "off" end on a study without [air]: 0 is no drag, not a mistake.
+  for (const std::string& o : {std::string("air.drag_scale=2"), std::string("drag_scale=2")}) {
+    SCOPED_TRACE(o);
+    const StudyConfig t = build(kStudy, {"air.drag=schiller_naumann", o});
+    ASSERT_TRUE(t.material.air_drag.has_value());
+    EXPECT_DOUBLE_EQ(t.material.air_drag->drag_scale, 2.0);
+  }
+  const StudyConfig off = build(kStudy, {"air.drag=schiller_naumann", "drag_scale=0"});
+  ASSERT_TRUE(off.material.air_drag.has_value());
+  EXPECT_EQ(off.material.air_drag->drag_scale, 0.0);
+  EXPECT_NE(off.apparatus.front().apparatus, nullptr);  // built, with its AirDrag
+}
+
+TEST(PhysicsModuleKeys, NegativeOrNonFiniteDragScaleIsRefusedNamingTheKey) {
+  const std::string air = std::string(kStudy) + "\n[air]\ndrag = \"schiller_naumann\"\n";
+  const std::string text = air + "drag_scale = -1\n";
+  expect_error(text, {at_line(text, "drag_scale = -1"), "air.drag_scale", "expected a number >= 0",
+                      "got -1"});
+  expect_error(air + "drag_scale = inf\n", {"air.drag_scale", "expected a number >= 0"});
+  expect_error(air + "drag_scale = \"1\"\n", {"air.drag_scale", "expected a number >= 0"});
+  expect_error(kStudy, {"air.drag_scale", "expected a number >= 0", "(from --set drag_scale=-0.5)"},
+               {"air.drag=schiller_naumann", "drag_scale=-0.5"});
+}
+
+TEST(PhysicsModuleKeys, AirWithoutADragScaleResolvesAndHashesAsBefore) {
+  // drag_scale is not written in when absent: the resolved [air] table, and the
+  // run keys of studies with and without [air], are those pinned before the key
+  // existed (a change would orphan the runs of existing stores).
+  const StudyConfig s = build(std::string(kStudy) + "\n[air]\ndrag = \"schiller_naumann\"\n");
+  ASSERT_TRUE(s.resolved["air"].as_table());
+  std::ostringstream air;
+  air << toml::toml_formatter(*s.resolved["air"].as_table());
+  EXPECT_EQ(air.str(), "density_kg_m3 = 1.2\ndrag = 'schiller_naumann'\ndynamic_viscosity_pa_s = 1.8e-05");
+  EXPECT_EQ(run_key_for(s, "rectangular_container", 1, 1).hash, "2c3790966e5e1b72");
+  EXPECT_EQ(run_key_for(build(kStudy), "rectangular_container", 1, 1).hash, "db956850adb34953");
+  EXPECT_DOUBLE_EQ(s.material.air_drag->drag_scale, 1.0);
+}
+
 // --- size spread ---
 
 TEST(PhysicsModuleKeys, SizeSpreadIsOneKeyAtAFixedMean) {
@@ -342,6 +388,20 @@ TEST(PhysicsModuleKeys, PlainConfigAirDragActsOnTheParticles) {
   const double m = 2650.0 * std::numbers::pi / 6.0 * 1e-9;
   const double drag = dem::sphere_drag_force_n(dem::AirProperties{}, 1e-3, {0, 0, -1.0}).z;  // up
   EXPECT_NEAR(force_z(with), -9.81 + drag / m, 1e-9);
+  EXPECT_FALSE(with.resolved["air"]["drag_scale"]);
+  SimulationConfig doubled =
+      build_plain(std::string(kPlain) + "\n[air]\ndrag = \"schiller_naumann\"\n", {"air.drag_scale=2"});
+  EXPECT_NEAR(force_z(doubled), -9.81 + 2.0 * drag / m, 1e-9);
+  SimulationConfig off =
+      build_plain(std::string(kPlain) + "\n[air]\ndrag = \"schiller_naumann\"\ndrag_scale = 0\n");
+  EXPECT_NEAR(force_z(off), -9.81, 1e-12);
+  try {
+    build_plain(std::string(kPlain) + "\n[air]\ndrag = \"schiller_naumann\"\ndrag_scale = -1\n");
+    ADD_FAILURE() << "expected a ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("air.drag_scale: expected a number >= 0"), std::string::npos) << msg;
+  }
 }
 
 TEST(PhysicsModuleKeys, PlainConfigJkrNeedsAndAllowsSurfaceEnergies) {

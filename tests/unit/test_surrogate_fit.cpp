@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <sstream>
 
 namespace demcal {
@@ -189,6 +190,41 @@ TEST(FitCommand, FitsSavesAndInspectsFromADesignTable) {
   EXPECT_NE(hs.str().find("Sobol"), std::string::npos);
   EXPECT_TRUE(fs::exists(html.parent_path() / "inspection.json"));
   EXPECT_TRUE(fs::exists(html.parent_path() / "rectangular_container_angle_of_repose_deg_parity.csv"));
+}
+
+TEST(FitCommand, AListedObservableIsFittedWhereMeasuredAndRefusedWhereNoRunMeasuredIt) {
+  // Several setups: a container measures no discharge time; listing the time
+  // must not stop the fit of the container's AoR, but a name no run measured is refused.
+  TempDir dir("listed");
+  write(dir.path / "study.toml",
+        study_text("[surrogate]\nmodel = \"polynomial\"\ndegree = 2\n"
+                   "observables = [\"angle_of_repose_deg\", \"discharge_time_s\"]\n"));
+  write_doe_csv(dir.path / "doe.csv");
+  cli::FitOptions o;
+  o.study = dir.path / "study.toml";
+  o.output_dir = dir.path / "out";
+  o.doe_csv = dir.path / "doe.csv";
+  std::ostringstream out, log;
+  // doe.csv has only the container's AoR: the time is listed but measured by no run.
+  try {
+    cli::fit(o, out, log);
+    FAIL() << "a listed observable that no run measured was accepted";
+  } catch (const cli::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("observables lists discharge_time_s, but no run in"), std::string::npos)
+        << e.what();
+  }
+  // With a sandglass row that measured it, the container's AoR and the sandglass's time are fitted.
+  {
+    std::ofstream f(dir.path / "doe.csv", std::ios::app);
+    for (int k = 0; k < 10; ++k)
+      f << 100 + k << ",0,1,sandglass," << 0.05 + 0.05 * k << "," << 0.2 + 0.07 * ((3 * k) % 10) << ",,"
+        << 0.4 + 0.02 * k + 0.001 * k * k << ",,,ok," << std::hex << 5000 + k << std::dec << "\n";
+  }
+  const auto r = cli::fit(o, out, log);
+  std::set<std::string> names;
+  for (const auto& file : r.files) names.insert(file.filename().string());
+  EXPECT_EQ(names, (std::set<std::string>{"rectangular_container.angle_of_repose_deg.json",
+                                          "sandglass.discharge_time_s.json"}));
 }
 
 TEST(FitCommand, SurrogateTableIsStrict) {
