@@ -142,6 +142,17 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     if (!(r.upper > r.lower))
       t.fail("upper", "expected a number > lower (" + format_number(r.lower) + "), got " +
                           format_number(r.upper));
+    std::vector<std::string> tied;
+    if (t.contains("also_sets")) {
+      for (const std::string& key : t.strings_or("also_sets", {}, {})) {
+        std::string k = key;
+        if (auto a = aliases.find(key); a != aliases.end()) k = a->second;
+        const std::string h = first_segment(k);
+        if (k.empty() || h == "study" || h == "output" || h == "design" || k == target)
+          t.fail("also_sets", "expected keys of the study other than the parameter's own, got \"" + key + "\"");
+        tied.push_back(k);
+      }
+    }
     if (factorial) {
       r.levels = static_cast<int>(t.integer("levels", 2, kMaxLevels));
       factorial_points *= r.levels;
@@ -152,6 +163,7 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     t.finish();
     spec.parameters.push_back(r);
     out.parameter_paths.push_back(target);
+    out.tied_paths.push_back(std::move(tied));
     out.parameter_lines.push_back(line);
   }
   if (list) {
@@ -204,8 +216,14 @@ void apply_design_values(ConfigDocument& doc, const DesignConfig& design,
                          const std::vector<double>& values, const std::string& origin) {
   const auto& params = design.spec.parameters;
   for (std::size_t i = 0; i < params.size() && i < values.size(); ++i)
-    set_config_value(doc, design.parameter_paths[i], toml::value<double>(values[i]),
-                     origin + ": " + params[i].name + " = " + shortest_decimal(values[i]));
+    set_parameter(doc, design, i, values[i], origin + ": " + params[i].name + " = " + shortest_decimal(values[i]));
+}
+
+void set_parameter(ConfigDocument& doc, const DesignConfig& design, std::size_t i, double value,
+                   const std::string& origin) {
+  set_config_value(doc, design.parameter_paths[i], toml::value<double>(value), origin);
+  if (i < design.tied_paths.size())
+    for (const auto& key : design.tied_paths[i]) set_config_value(doc, key, toml::value<double>(value), origin);
 }
 
 StudySource StudySource::read(const std::filesystem::path& path,
@@ -235,7 +253,7 @@ void check_design_bounds(const StudySource& source, const DesignConfig& design) 
       const std::string what = std::string(upper ? "upper" : "lower") + " = " + shortest_decimal(v);
       try {
         ConfigDocument doc = source.document();
-        set_config_value(doc, design.parameter_paths[i], toml::value<double>(v), "the design");
+        set_parameter(doc, design, i, v, "the design");
         build_study(std::move(doc));
       } catch (const ConfigError& e) {
         throw ConfigError(source.file + ":" + std::to_string(design.parameter_lines[i]) +

@@ -14,7 +14,11 @@
 //   skip = 0                        # opt, sobol only: sequence points dropped first
 //   parameters = { mu_r = { lower = 0.05, upper = 0.6 }, mu_s = { lower = 0.2, upper = 0.9 } }
 //     each: lower < upper (finite numbers), and with full_factorial only
-//     levels = 5 (integer in [2, 1000], required); at most 1e6 factorial points
+//     levels = 5 (integer in [2, 1000], required); at most 1e6 factorial points;
+//     opt also_sets = ["interaction.particle_wall.surface_energy_j_m2"]: other keys
+//     given the parameter's value at every point (one physical quantity that the
+//     config writes in several places, e.g. a surface energy of the grains and of
+//     the walls); the column is the parameter's
 //
 // A parameter name is any key `demcal simulate --set` accepts in the study:
 // mu_r, mu_s, or a dotted path such as "apparatus.sandglass.orifice_diameter_m"
@@ -45,6 +49,7 @@ namespace demcal::cli {
 struct DesignConfig {
   surrogate::DesignSpec spec;              // parameter names as written
   std::vector<std::string> parameter_paths;  // the dotted key each sets (aliases resolved)
+  std::vector<std::vector<std::string>> tied_paths;  // per parameter: its also_sets keys
   std::vector<std::size_t> parameter_lines;  // where each is written, for messages
   int replicates = 1;
   std::size_t line = 0;  // of [design]
@@ -54,6 +59,10 @@ struct DesignConfig {
 // document's top level and `top` its table).
 std::optional<DesignConfig> read_design(const reader::Context& ctx, reader::Table& root,
                                         toml::table& top);
+
+// Sets parameter i of `design` (and its also_sets keys) to `value` in `doc`.
+void set_parameter(ConfigDocument& doc, const DesignConfig& design, std::size_t i, double value,
+                   const std::string& origin);
 
 // A TOML key as it would be written: bare when it can be, else quoted.
 std::string toml_key_text(const std::string& key);

@@ -22,6 +22,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace demcal::cli {
 namespace {
@@ -34,6 +35,11 @@ using calibrate::format_number;
 struct ResolvedCandidate {
   const PhysicsCandidate* entry = nullptr;
   double off = 0.0, lower = 0.0, upper = 1.0, probe = 0.0;
+  // A second probe on the other side of "off", for a candidate whose base value
+  // lies inside its range (the wall friction, the size spread): an effect that
+  // saturates on one side (walls that already hold the heap) shows on the other,
+  // and the sensitivity is the secant through both, measured by the DEM alone.
+  std::optional<double> probe_below;
 };
 
 std::optional<double> number_at(const toml::table& t, const std::string& dotted) {
@@ -59,10 +65,21 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study, c
   // Away from "off" by about a third of the range, toward the side with room.
   r.probe = c.off_value ? c.probe : (r.off + 0.3 * (r.upper - r.lower) <= r.upper ? r.off + 0.3 * (r.upper - r.lower)
                                                                                     : r.off - 0.3 * (r.upper - r.lower));
+  bool probe_given = false;
   if (auto it = dc.ranges.find(c.name); it != dc.ranges.end()) {
     if (it->second.lower) r.lower = *it->second.lower;
     if (it->second.upper) r.upper = *it->second.upper;
-    if (it->second.probe) r.probe = *it->second.probe;
+    if (it->second.probe) {
+      r.probe = *it->second.probe;
+      probe_given = true;
+    }
+  }
+  if (!c.off_value && !probe_given) {
+    const double step = 0.3 * (r.upper - r.lower);
+    if (r.off - step >= r.lower && r.off + step <= r.upper) {
+      r.probe = r.off + step;
+      r.probe_below = r.off - step;
+    }
   }
   const std::string where = study.file + ":" + std::to_string(dc.line) + ": diagnosis." + c.name + ": ";
   if (!(r.upper > r.lower)) throw ConfigError(where + "upper must be > lower");
@@ -105,7 +122,14 @@ std::string derived_study(const StudySource& source, const std::string& name, co
     s << toml_key_text(p.name) << " = { lower = " << shortest_decimal(p.lower) << ", upper = " << shortest_decimal(p.upper)
       << " }, ";
   s << toml_key_text(c.entry->keys.front()) << " = { lower = " << shortest_decimal(c.lower)
-    << ", upper = " << shortest_decimal(c.upper) << " } }\n";
+    << ", upper = " << shortest_decimal(c.upper);
+  // The candidate's other keys follow its parameter (the grains' and the walls' surface energy).
+  if (c.entry->keys.size() > 1) {
+    s << ", also_sets = [";
+    for (std::size_t k = 1; k < c.entry->keys.size(); ++k) s << (k > 1 ? ", " : "") << '"' << c.entry->keys[k] << '"';
+    s << "]";
+  }
+  s << " } }\n";
   return s.str();
 }
 
@@ -126,14 +150,14 @@ DoeOutcome run_derived(const fs::path& file, const std::string& text, const Diag
   return run_doe(d, out, log);
 }
 
-// Replicate means of one observable per setup at the single point of a probe table.
-std::map<std::pair<std::string, std::string>, std::pair<double, int>> probe_means(const DoeCsv& t) {
-  std::map<std::pair<std::string, std::string>, std::pair<double, int>> m;
+// Replicate means (and counts) of each observable per design point and setup of a probe table.
+std::map<std::tuple<int, std::string, std::string>, std::pair<double, int>> probe_means(const DoeCsv& t) {
+  std::map<std::tuple<int, std::string, std::string>, std::pair<double, int>> m;
   for (const auto& r : t.rows) {
     if (r.status != "ok") continue;
     for (std::size_t k = 0; k < t.observable_names.size(); ++k) {
       if (!std::isfinite(r.observables[k])) continue;
-      auto& e = m[{r.apparatus, t.observable_names[k]}];
+      auto& e = m[{r.point, r.apparatus, t.observable_names[k]}];
       e.first += r.observables[k];
       ++e.second;
     }
@@ -389,12 +413,18 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
     for (const auto& c : candidates) {
       // 3. The probe: the DEM at the base fit with the candidate on.
       std::ostringstream design;
-      design << "kind = \"list\"\nreplicates = " << dc.probe_replicates << "\nvalues = [[";
-      for (Eigen::Index k = 0; k < theta.size(); ++k) design << shortest_decimal(theta(k)) << ", ";
-      design << shortest_decimal(c.probe) << "]]\n";
+      design << "kind = \"list\"\nreplicates = " << dc.probe_replicates << "\nvalues = [";
+      for (const auto phi : {std::optional<double>(c.probe), c.probe_below}) {
+        if (!phi) continue;
+        design << (phi == c.probe ? "[" : ", [");
+        for (Eigen::Index k = 0; k < theta.size(); ++k) design << shortest_decimal(theta(k)) << ", ";
+        design << shortest_decimal(*phi) << "]";
+      }
+      design << "]\n";
       const std::string name = study.name + "--" + c.entry->name + "-probe";
       log << "diagnose: probing " << c.entry->name << " (" << c.entry->keys.front() << " = " << c.probe
-          << " instead of " << c.off << ") at the base fit ...\n";
+          << (c.probe_below ? " and " + format_number(*c.probe_below) : std::string()) << " instead of " << c.off
+          << ") at the base fit ...\n";
       const DoeOutcome d = run_derived(dir / "diagnosis" / (c.entry->name + "-probe") / "study.toml",
                                        derived_study(source, name, c, bounds, design.str()), o, out, log);
       executed += d.executed;
@@ -408,8 +438,8 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
       m.parameter = {c.entry->parameter, c.off, c.lower, c.upper};
       const double dphi = c.probe - c.off;
       for (const auto& t : targets) {
-        const auto it = means.find({t.setup, t.observable});
-        const auto pred = t.model->predict(at);
+        const auto it = means.find({0, t.setup, t.observable});
+        const auto below = means.find({1, t.setup, t.observable});
         if (it == means.end()) {
           m.sensitivity.push_back(0.0);
           m.sensitivity_se.push_back(0.0);
@@ -422,6 +452,14 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
           return r.setup == t.setup && r.observable == t.observable;
         });
         const double single_sd = t.sigma_dem * std::sqrt(static_cast<double>(rec->repeats));
+        if (c.probe_below && below != means.end()) {
+          // The secant through both probes: DEM against DEM, no surrogate in it.
+          const double span = c.probe - *c.probe_below;
+          m.sensitivity.push_back((it->second.first - below->second.first) / span);
+          m.sensitivity_se.push_back(single_sd * std::sqrt(1.0 / n + 1.0 / below->second.second) / span);
+          continue;
+        }
+        const auto pred = t.model->predict(at);
         m.sensitivity.push_back((it->second.first - pred.mean(0)) / dphi);
         m.sensitivity_se.push_back(std::sqrt(single_sd * single_sd / n + pred.variance(0)) / std::abs(dphi));
       }

@@ -13,7 +13,10 @@
 //      no DEM run is spent on candidates;
 //   3. per candidate, a probe: the DEM at the base fit with the candidate
 //      switched on at its probe value (probe_replicates seeds per setup), so
-//      that the sensitivity of every recording to it is measured, not assumed;
+//      that the sensitivity of every recording to it is measured, not assumed.
+//      A candidate whose base value lies inside its range (wall friction, size
+//      spread) is probed on both sides of it, and its sensitivity is the secant
+//      between the two: an effect that saturates on one side shows on the other;
 //   4. the leading candidates by the score test get a design extended into
 //      their parameter (Latin hypercube in (parameters, candidate)), which,
 //      with the base design at the candidate's "off" value, fits surrogates

@@ -484,6 +484,42 @@ parameters = { mu_s = { lower = 0.3, upper = 0.7 }, mu_r = { lower = 0.1, upper 
   fs::remove_all(study.parent_path());
 }
 
+TEST(DoePlanTest, AParameterAlsoSetsTheKeysTiedToIt) {
+  // One physical quantity written in two places (the grains' and the walls'
+  // surface energy): also_sets gives the other key the parameter's value.
+  const fs::path study = study_with_design("tied", R"([design]
+kind = "list"
+values = [[0.002], [0.004]]
+parameters = { surface_energy = { lower = 0.0, upper = 0.005, also_sets = ["surface_energy_wall"] } }
+)");
+  {
+    std::string text = slurp(study);
+    text.replace(text.find("rolling = \"cdt\""), 15, "rolling = \"cdt\"\nadhesion = \"jkr\"");
+    for (const std::string table : {"[interaction.particle_particle]\n", "[interaction.particle_wall]\n"})
+      text.insert(text.find(table) + table.size(), "surface_energy_j_m2 = 0.0\n");
+    std::ofstream(study) << text;
+  }
+  const DoePlan plan = plan_doe(study, {}, {}, 1);
+  ASSERT_EQ(plan.design.tied_paths.at(0), std::vector<std::string>{"interaction.particle_wall.surface_energy_j_m2"});
+  const toml::table t = run_document(plan, plan.runs[1]).table;
+  EXPECT_EQ(t.at_path("interaction.particle_particle.surface_energy_j_m2").value<double>(), 0.004);
+  EXPECT_EQ(t.at_path("interaction.particle_wall.surface_energy_j_m2").value<double>(), 0.004);
+  fs::remove_all(study.parent_path());
+  // A tie to a [study] key, or to the parameter itself, is refused at its line.
+  const fs::path bad = study_with_design("tied-bad", R"([design]
+kind = "list"
+values = [[0.3]]
+parameters = { mu_s = { lower = 0.1, upper = 0.9, also_sets = ["mu_s"] } }
+)");
+  try {
+    plan_doe(bad, {}, {}, 1);
+    ADD_FAILURE() << "a tie of a parameter to itself was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("design.parameters.mu_s.also_sets"), std::string::npos) << e.what();
+  }
+  fs::remove_all(bad.parent_path());
+}
+
 TEST(DoePlanTest, RowsWithIdenticalInputsShareOneRun) {
   // A second apparatus, and a design over its orifice only: the container's
   // runs do not depend on it, so its rows of a replicate share one run.

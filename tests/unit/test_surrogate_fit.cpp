@@ -164,14 +164,20 @@ void write_doe_csv(const fs::path& p) {
       }
 }
 
+// The fit of dir/study.toml to a freshly written dir/doe.csv, into dir/out.
+cli::FitOptions fit_options_with_table(const fs::path& dir) {
+  write_doe_csv(dir / "doe.csv");
+  cli::FitOptions o;
+  o.study = dir / "study.toml";
+  o.output_dir = dir / "out";
+  o.doe_csv = dir / "doe.csv";
+  return o;
+}
+
 TEST(FitCommand, FitsSavesAndInspectsFromADesignTable) {
   TempDir dir("cmd");
   write(dir.path / "study.toml", study_text("[surrogate]\nmodel = \"gaussian_process\"\nmean = \"linear\"\n"));
-  write_doe_csv(dir.path / "doe.csv");
-  cli::FitOptions o;
-  o.study = dir.path / "study.toml";
-  o.output_dir = dir.path / "out";
-  o.doe_csv = dir.path / "doe.csv";
+  const cli::FitOptions o = fit_options_with_table(dir.path);
   std::ostringstream out, log;
   const auto r = cli::fit(o, out, log);
   ASSERT_EQ(r.files.size(), 1u);
@@ -199,11 +205,7 @@ TEST(FitCommand, AListedObservableIsFittedWhereMeasuredAndRefusedWhereNoRunMeasu
   write(dir.path / "study.toml",
         study_text("[surrogate]\nmodel = \"polynomial\"\ndegree = 2\n"
                    "observables = [\"angle_of_repose_deg\", \"discharge_time_s\"]\n"));
-  write_doe_csv(dir.path / "doe.csv");
-  cli::FitOptions o;
-  o.study = dir.path / "study.toml";
-  o.output_dir = dir.path / "out";
-  o.doe_csv = dir.path / "doe.csv";
+  const cli::FitOptions o = fit_options_with_table(dir.path);
   std::ostringstream out, log;
   // doe.csv has only the container's AoR: the time is listed but measured by no run.
   try {

@@ -1,0 +1,303 @@
+#!/usr/bin/env python3
+"""The blind test of `demcal diagnose` (issue 6): concealed effects, several noise seeds.
+
+Each studies/concealed-<effect>/ is the same base model (written from
+base_study.toml.in by `studies`). Its recordings were made by the engine with one
+effect switched on -- the truth, in truth/<study>.toml, which nothing the diagnosis
+reads points to -- or with none (concealed-null). This script
+
+  studies      writes studies/concealed-*/study.toml from the template
+  truth        runs the DEM at each truth: every setup, REPEATS seeds per noise seed
+               (seeds 100 k + 1 .. 100 k + REPEATS for noise seed k, none of them a
+               design seed), into out/concealed/truth/, and collects truth/runs.csv
+  recordings   per study and noise seed: the mean of the REPEATS runs plus a Gaussian
+               instrument error (its own seed), with sigma = that instrument
+               uncertainty and repeats = REPEATS -> studies/<study>/recordings[-seedK].csv
+  diagnose     `demcal diagnose` on every study and noise seed, all sharing one run
+               store (out/concealed/runs), then scores each verdict against the truth
+               -> tests/concealed/results.csv and the table on stdout
+  all          the four in order
+
+Every step is resumable: DEM runs already done are reused (run store, truth runs).
+Usage: harness.py [--demcal PATH] [--jobs N] [--seeds 1,2,3] STEP
+"""
+
+import argparse
+import csv
+import json
+import math
+import pathlib
+import random
+import subprocess
+import sys
+import time
+import tomllib
+from concurrent.futures import ThreadPoolExecutor
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+TRUTH = HERE / "truth"
+OUT = ROOT / "out" / "concealed"
+REPEATS = 3
+SETUPS = ["sandglass", "container_walls", "container_periodic"]
+# Instrument uncertainty of each recording: (observable, unit, absolute sd, relative sd).
+INSTRUMENT = [
+    ("angle_of_repose_deg", "deg", 0.5, 0.0),      # a protractor on a photograph
+    ("discharge_time_s", "s", 0.0, 0.01),          # stopwatch / video, 1 %
+    ("bulk_density_kg_m3", "kg/m3", 0.0, 0.005),   # mass and volume of the fill, 0.5 %
+]
+TITLES = {
+    "concealed-cohesion": "Concealed-effect study: cohesion",
+    "concealed-wall-friction": "Concealed-effect study: particle-wall friction",
+    "concealed-air-drag": "Concealed-effect study: air drag",
+    "concealed-size-spread": "Concealed-effect study: size spread",
+    "concealed-null": "Concealed-effect study: the null case (nothing concealed)",
+}
+
+
+def truths():
+    out = []
+    for f in sorted(TRUTH.glob("concealed-*.toml")):
+        with open(f, "rb") as fh:
+            t = tomllib.load(fh)
+        t["file"] = f
+        out.append(t)
+    return out
+
+
+def study_file(name):
+    return ROOT / "studies" / name / "study.toml"
+
+
+def recordings_name(seed):
+    return "recordings.csv" if seed == 1 else f"recordings-seed{seed}.csv"
+
+
+def step_studies(args):
+    template = (HERE / "base_study.toml.in").read_text()
+    for t in truths():
+        f = study_file(t["study"])
+        f.parent.mkdir(parents=True, exist_ok=True)
+        text = template.replace("@NAME@", t["study"]).replace("@TITLE@", TITLES[t["study"]])
+        if not f.exists() or f.read_text() != text:
+            f.write_text(text)
+            print("wrote", f.relative_to(ROOT))
+
+
+def truth_seeds(noise_seed):
+    return [100 * noise_seed + j for j in range(1, REPEATS + 1)]
+
+
+def step_truth(args):
+    jobs = []
+    for t in truths():
+        for k in args.seeds:
+            for s in truth_seeds(k):
+                for setup in SETUPS:
+                    run_dir = OUT / "truth" / t["study"] / f"seed{s}" / setup
+                    jobs.append((t, s, setup, run_dir))
+
+    def run(job):
+        t, s, setup, run_dir = job
+        if (run_dir / "run.json").exists():
+            return job
+        cmd = [args.demcal, "simulate", str(study_file(t["study"])), "--apparatus", setup, "--quiet",
+               "--threads", "1", "--overwrite", "--output", str(run_dir), "--set", f"mu_r={t['mu_r']}",
+               "--set", f"mu_s={t['mu_s']}", "--set", f"study.seed={s}"]
+        for kv in t["set"]:
+            cmd += ["--set", kv]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"truth run failed: {' '.join(cmd)}\n{r.stderr}")
+        return job
+
+    todo = [j for j in jobs if not (j[3] / "run.json").exists()]
+    print(f"truth: {len(jobs)} runs, {len(todo)} to do", flush=True)
+    started = time.time()
+    with ThreadPoolExecutor(args.jobs) as pool:
+        for i, _ in enumerate(pool.map(run, todo), 1):
+            if i % 10 == 0:
+                print(f"  {i}/{len(todo)} ({time.time() - started:.0f} s)", flush=True)
+    rows = []
+    for t, s, setup, run_dir in jobs:
+        rec = json.load(open(run_dir / "run.json"))
+        for name, _, _, _ in INSTRUMENT:
+            v = rec["observables"].get(name)
+            if v is not None:
+                rows.append({"study": t["study"], "seed": s, "setup": setup, "observable": name, "value": repr(v),
+                             "wall_time_s": f"{rec['results']['wall_time_s']:.2f}"})
+    with open(TRUTH / "runs.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    print("wrote", (TRUTH / "runs.csv").relative_to(ROOT))
+
+
+def step_recordings(args):
+    runs = list(csv.DictReader(open(TRUTH / "runs.csv")))
+    for t in truths():
+        for k in args.seeds:
+            seeds = set(truth_seeds(k))
+            # The instrument's error has its own seed, apart from the DEM's.
+            rng = random.Random(f"{t['study']}:{k}")
+            lines = ["setup,observable,value,sigma,unit,repeats"]
+            for setup in SETUPS:
+                for name, unit, sd_abs, sd_rel in INSTRUMENT:
+                    v = [float(r["value"]) for r in runs if r["study"] == t["study"] and r["setup"] == setup
+                         and r["observable"] == name and int(r["seed"]) in seeds]
+                    measured = any(r["setup"] == setup and r["observable"] == name for r in runs)
+                    if not v and not measured:
+                        continue  # this setup never measures it (a container has no discharge time)
+                    if not v:
+                        # Every test of this noise seed failed to give it (a pile too small to fit, a
+                        # clog): a laboratory would record nothing either.
+                        print(f"note: {t['study']} noise seed {k}: no {setup} {name} in {REPEATS} runs; not recorded")
+                        continue
+                    if len(v) != REPEATS:
+                        print(f"note: {t['study']} noise seed {k}: {setup} {name} from {len(v)} of {REPEATS} runs")
+                    mean = sum(v) / len(v)
+                    sigma = sd_abs + sd_rel * abs(mean)
+                    value = mean + rng.gauss(0.0, sigma)
+                    lines.append(f"{setup},{name},{value:.6g},{sigma:.3g},{unit},{len(v)}")
+            f = study_file(t["study"]).parent / recordings_name(k)
+            f.write_text("\n".join(lines) + "\n")
+            print("wrote", f.relative_to(ROOT))
+
+
+def step_diagnose(args):
+    results = []
+    for t in truths():
+        for k in args.seeds:
+            name = f"{t['study']}-seed{k}"
+            cmd = [args.demcal, "diagnose", str(study_file(t["study"])), "--quiet", "--jobs", str(args.jobs),
+                   "--output", str(OUT), "--run-store", str(OUT / "runs"), "--set", f"study.name={name}",
+                   "--set", f"calibration.recordings={recordings_name(k)}"]
+            started = time.time()
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            elapsed = time.time() - started
+            if r.returncode != 0:
+                sys.exit(f"diagnose failed ({r.returncode}): {' '.join(cmd)}\n{r.stdout}\n{r.stderr}")
+            d = json.load(open(OUT / name / "reports" / "diagnosis" / "diagnosis.json"))
+            chosen = d.get("chosen") or "none"
+            truth = t["effect"]
+            if truth == "none":
+                verdict = "right" if d["outcome"] == "reproduced" else "false alarm"
+            elif chosen == truth:
+                verdict = "right"
+            elif d["outcome"] in ("reproduced", "untestable"):
+                verdict = "missed"
+            elif d["outcome"] == "unexplained":
+                verdict = "unexplained"  # a mismatch seen, no candidate named
+            else:
+                verdict = "wrong"
+            chosen_fit = next((f for f in d.get("fits", []) if f["name"] == chosen), None)
+            row = {
+                "study": t["study"], "noise_seed": k, "truth": truth, "outcome": d["outcome"], "named": chosen,
+                "verdict": verdict,
+                "chi2_dof_before": d.get("chi_square_per_dof_before", d["detection"].get("chi_square_per_dof")),
+                "chi2_dof_after": d.get("chi_square_per_dof_after"),
+                "p_value": d["detection"].get("p_value"),
+                "bayes_factor": d.get("bayes_factor_over_base"),
+                "value": chosen_fit.get("value") if chosen_fit else None,
+                "dem_runs_executed": d.get("dem_runs_executed"), "wall_time_s": round(elapsed, 1),
+                "summary": d["summary"],
+            }
+            results.append(row)
+            print(f"{name}: {verdict} ({d['outcome']}, named {chosen}); {d['summary']}", flush=True)
+    with open(HERE / "results.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(results[0].keys()))
+        w.writeheader()
+        w.writerows(results)
+    print_table(results)
+    write_readmes(results)
+
+
+STUDY_README = """# {title}
+
+A concealed-effect study of the blind test of `demcal diagnose` (`tests/concealed/README.md`
+says how the recordings were made and how verdicts are scored). The study is the base
+model of `tests/concealed/base_study.toml.in`; its recordings (`recordings.csv` = noise seed
+1, `recordings-seed2.csv`, `recordings-seed3.csv`) were made by the engine with {hidden}.
+The truth is kept in `tests/concealed/truth/{study}.toml`, which nothing here reads.
+
+    ./build/cli/demcal diagnose studies/{study}/study.toml     # noise seed 1
+    python3 tests/concealed/harness.py diagnose               # every study, every noise seed
+
+## What the diagnosis said (harness run of {date}; `tests/concealed/results.csv`)
+
+| noise seed | outcome | named | verdict | chi²/dof before | after | Bayes factor | DEM runs | wall s |
+|---|---|---|---|---|---|---|---|---|
+{rows}
+
+{summaries}
+"""
+
+
+def write_readmes(results):
+    hidden = {
+        "cohesion": "one effect switched on that the base model leaves out (its name is the folder's)",
+        "wall_friction": "one effect switched on that the base model leaves out (its name is the folder's)",
+        "air_drag": "one effect switched on that the base model leaves out (its name is the folder's)",
+        "size_spread": "one effect switched on that the base model leaves out (its name is the folder's)",
+        "none": "nothing missing: the base model's own physics, noise added",
+    }
+    for t in truths():
+        mine = [r for r in results if r["study"] == t["study"]]
+        if not mine:
+            continue
+        rows = "\n".join(
+            f"| {r['noise_seed']} | {r['outcome']} | {r['named']} | {r['verdict']} | {fmt(r['chi2_dof_before'])} | "
+            f"{fmt(r['chi2_dof_after'])} | {fmt(r['bayes_factor'])} | {r['dem_runs_executed']} | {r['wall_time_s']} |"
+            for r in mine)
+        summaries = "\n\n".join(f"Noise seed {r['noise_seed']}: {r['summary']}" for r in mine)
+        text = STUDY_README.format(title=TITLES[t["study"]], hidden=hidden[t["effect"]], study=t["study"],
+                                   date=time.strftime("%Y-%m-%d"), rows=rows, summaries=summaries)
+        (study_file(t["study"]).parent / "README.md").write_text(text)
+
+
+def fmt(v, digits=3):
+    if v is None or v == "":
+        return "-"
+    try:
+        x = float(v)
+    except ValueError:
+        return str(v)
+    if math.isnan(x):
+        return "-"
+    return f"{x:.{digits}g}"
+
+
+def print_table(results):
+    print("\n| study | noise seed | truth | outcome | named | verdict | chi2/dof before | after | DEM runs | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in results:
+        print(f"| {r['study']} | {r['noise_seed']} | {r['truth']} | {r['outcome']} | {r['named']} | {r['verdict']} | "
+              f"{fmt(r['chi2_dof_before'])} | {fmt(r['chi2_dof_after'])} | {r['dem_runs_executed']} | "
+              f"{r['wall_time_s']} |")
+    effects = [r for r in results if r["truth"] != "none"]
+    nulls = [r for r in results if r["truth"] == "none"]
+    right = sum(r["verdict"] == "right" for r in effects)
+    alarms = sum(r["verdict"] == "false alarm" for r in nulls)
+    print(f"\nidentification: {right}/{len(effects)} named right"
+          f" ({100.0 * right / max(1, len(effects)):.0f} %); false alarms on the null study: {alarms}/{len(nulls)}")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("step", choices=["studies", "truth", "recordings", "diagnose", "table", "all"])
+    p.add_argument("--demcal", default=str(ROOT / "build" / "cli" / "demcal"))
+    p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--seeds", default="1,2,3", help="noise seeds, comma-separated")
+    args = p.parse_args()
+    args.seeds = [int(s) for s in args.seeds.split(",")]
+    if args.step == "table":
+        print_table(list(csv.DictReader(open(HERE / "results.csv"))))
+        return
+    for step, fn in (("studies", step_studies), ("truth", step_truth), ("recordings", step_recordings),
+                     ("diagnose", step_diagnose)):
+        if args.step in (step, "all"):
+            fn(args)
+
+
+if __name__ == "__main__":
+    main()
