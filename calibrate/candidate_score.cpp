@@ -18,6 +18,8 @@ namespace {
 // Singular values of J below this fraction of the largest count as zero in the projector:
 // a rank-deficient base fit (AoR alone) then projects out only the directions it can move.
 constexpr double kProjectorRankTolerance = 1e-10;
+// Within this fraction of its range from a bound, a parameter counts as at the bound.
+constexpr double kAtBoundFraction = 1e-6;
 
 std::string fmt(double x, int digits = 3) {
   if (std::isnan(x)) return "n/a";
@@ -114,7 +116,18 @@ CandidateScore score_candidate(const CalibrationProblem& base, const Eigen::Vect
 
   Eigen::MatrixXd d_r;
   const Eigen::VectorXd r = base.residuals(theta, &d_r);
-  const Eigen::MatrixXd jac = -d_r;
+  // Columns of the parameters the fit can still move (see "Active bounds" in the header).
+  const Eigen::VectorXd gradient = 2.0 * d_r.transpose() * r;  // d chi^2 / d theta
+  const Eigen::VectorXd lower = base.lower(), upper = base.upper(), range = base.range();
+  std::vector<Eigen::Index> free_columns;
+  for (Eigen::Index k = 0; k < theta.size(); ++k) {
+    const double tol = kAtBoundFraction * range(k);
+    const bool pressed_low = theta(k) - lower(k) <= tol && gradient(k) > 0.0;
+    const bool pressed_high = upper(k) - theta(k) <= tol && gradient(k) < 0.0;
+    if (!pressed_low && !pressed_high) free_columns.push_back(k);
+  }
+  Eigen::MatrixXd jac(n, static_cast<Eigen::Index>(free_columns.size()));
+  for (std::size_t c = 0; c < free_columns.size(); ++c) jac.col(static_cast<Eigen::Index>(c)) = -d_r.col(free_columns[c]);
   const Eigen::VectorXd sigma = base.evaluate(theta.transpose()).sigma_total.row(0).transpose();
   const Eigen::VectorXd s = Eigen::Map<const Eigen::VectorXd>(candidate.sensitivity.data(), n);
   const Eigen::VectorXd tau = candidate.sensitivity_se.empty()
@@ -148,6 +161,7 @@ CandidateScore score_candidate(const CalibrationProblem& base, const Eigen::Vect
   for (Eigen::Index i = 0; i < n; ++i)
     if (std::abs(s(i)) > options.noise_z * tau(i)) within_noise = false;
   const double noise_in_jmj = m_diag.dot(noise_var);
+  sc.signature_within_noise = within_noise;
   if (within_noise || (noise_in_jmj > 0.0 && jmj <= options.noise_z * options.noise_z * noise_in_jmj)) {
     sc.status = ScoreStatus::cannot_be_assessed;
   } else if (!(jmj > options.confounded_fraction * jj)) {
@@ -155,6 +169,10 @@ CandidateScore score_candidate(const CalibrationProblem& base, const Eigen::Vect
   }
   if (sc.status != ScoreStatus::assessed) {
     sc.statement = score_statement(sc, candidate.parameter.off_value);
+    if (sc.status == ScoreStatus::cannot_be_assessed && !within_noise)
+      sc.statement = sc.name + " (" + sc.parameter_name + ") cannot be assessed at the base fit: the probes see it, " +
+                     "but the part of its signature the base parameters cannot mimic (" +
+                     fmt(100.0 * sc.orthogonal_fraction, 2) + " %) is within the probes' noise.";
     return sc;
   }
 
@@ -220,6 +238,7 @@ nlohmann::json CandidateScore::to_json() const {
           {"base_chi_square", number_json(base_chi_square)},
           {"explained_fraction", number_json(explained_fraction)},
           {"orthogonal_fraction", number_json(orthogonal_fraction)},
+          {"signature_within_noise", signature_within_noise},
           {"rank", rank},
           {"statement", statement}};
 }

@@ -15,6 +15,11 @@
 // For a model linear in theta and phi, LM is exactly the drop in chi^2 that refitting
 // with phi free would bring.
 //
+// Active bounds. A base parameter at a bound that the fit presses against (chi^2 would
+// fall further outside) cannot move in that direction, so it cannot mimic the signature
+// there: its column is left out of J. Otherwise a base fit pinned at, say, the lowest
+// friction of the box would "absorb" any candidate that also lowers the angle of repose.
+//
 // J is -(d r / d theta) from CalibrationProblem::residuals: r = (y - f) / sigma, so
 // d r / d theta = -(d f / d theta) / sigma minus a term from the surrogate variance's
 // slope (kept: it is part of the direction the fit can move in). Only span(J) enters M,
@@ -109,6 +114,10 @@ struct CandidateScore {
   double base_chi_square = 0.0;
   double explained_fraction = 0.0;   // lagrange_multiplier / base_chi_square
   double orthogonal_fraction = 0.0;  // j^T M j / j^T j
+  // Every |s_i| <= noise_z * se_i: the probes saw nothing. When false and the status is
+  // still cannot_be_assessed, the probes saw an effect but the base parameters mimic all
+  // of it that stands out of the noise; only a refit with phi free can tell.
+  bool signature_within_noise = false;
   int rank = 0;                      // 1 = most promising (set by rank_candidates)
   std::string statement;             // one sentence
 

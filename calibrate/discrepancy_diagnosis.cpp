@@ -419,10 +419,11 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
 
   int recalibrated = 0;
   for (const CandidateScore& sc : d.scores) {
-    if (sc.status != ScoreStatus::assessed) {
-      d.notes.push_back(sc.statement);
-      continue;
-    }
+    // The score test ranks; it does not veto. A candidate it could not settle (confounded,
+    // or mimicked within the probes' noise) is refitted when the budget allows, after the
+    // assessed ones; one the probes did not see at all is not.
+    if (sc.status != ScoreStatus::assessed) d.notes.push_back(sc.statement);
+    if (sc.signature_within_noise) continue;
     if (recalibrated >= options.leading_candidates) {
       d.notes.push_back(sc.name + " was not recalibrated: ranked " + std::to_string(sc.rank) +
                         " by the score test (leading_candidates = " + std::to_string(options.leading_candidates) + ").");

@@ -474,7 +474,11 @@ DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostre
     const auto ranked = calibrate::rank_candidates(problem, base.minima.at(0).theta, signatures, so_opts);
     int extended = 0;
     for (const auto& s : ranked) {
-      if (extended >= dc.leading || s.status != calibrate::ScoreStatus::assessed) continue;
+      // In rank order (assessed ones first): a candidate the score test could not settle
+      // (confounded with the base parameters, or seen by the probes but mimicked within
+      // their noise) still gets an extended design when the budget allows -- the evidence
+      // decides; only one the probes did not see at all is left out.
+      if (extended >= dc.leading || s.signature_within_noise) continue;
       ++extended;
       const auto ci = static_cast<std::size_t>(
           std::find_if(candidates.begin(), candidates.end(), [&](const auto& c) { return c.entry->name == s.name; }) -
