@@ -137,12 +137,16 @@ CandidateScore score_candidate(const CalibrationProblem& base, const Eigen::Vect
   const Eigen::VectorXd noise_var = tau.cwiseQuotient(sigma).cwiseAbs2();
 
   // M x = x - U_r U_r^T x with U_r the left singular vectors of J's non-zero singular values.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeThinU);
-  const Eigen::VectorXd sv = svd.singularValues();
-  Eigen::Index rank = 0;
-  for (Eigen::Index k = 0; k < sv.size(); ++k)
-    if (sv(0) > 0.0 && sv(k) > kProjectorRankTolerance * sv(0)) ++rank;
-  const Eigen::MatrixXd u = svd.matrixU().leftCols(rank);
+  // Every parameter pressed against a bound: nothing mimics the candidate, M = I.
+  Eigen::MatrixXd u(n, 0);
+  if (jac.cols() > 0) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeThinU);
+    const Eigen::VectorXd sv = svd.singularValues();
+    Eigen::Index rank = 0;
+    for (Eigen::Index k = 0; k < sv.size(); ++k)
+      if (sv(0) > 0.0 && sv(k) > kProjectorRankTolerance * sv(0)) ++rank;
+    u = svd.matrixU().leftCols(rank);
+  }
   const auto project = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return x - u * (u.transpose() * x); };
   const Eigen::VectorXd mj = project(j);
   const Eigen::VectorXd mr = project(r);

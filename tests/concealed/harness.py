@@ -15,7 +15,8 @@ reads points to -- or with none (concealed-null). This script
                uncertainty and repeats = REPEATS -> studies/<study>/recordings[-seedK].csv
   diagnose     `demcal diagnose` on every study and noise seed, all sharing one run
                store (out/concealed/runs), then scores each verdict against the truth
-               -> tests/concealed/results.csv and the table on stdout
+               -> tests/concealed/results.csv, the table on stdout, the study READMEs
+  table        the table and the study READMEs again, from results.csv
   all          the four in order
 
 Every step is resumable: DEM runs already done are reused (run store, truth runs).
@@ -230,6 +231,11 @@ The truth is kept in `tests/concealed/truth/{study}.toml`, which nothing here re
 {rows}
 
 {summaries}
+
+Over the whole blind test (five studies, three noise seeds each): {overall}. The "DEM runs"
+column counts the runs a diagnosis executed itself; the studies share one run store
+(`out/concealed/runs`), so the base design, the probes at a shared base fit and the
+extended designs run once for all (cost of the whole test: `tests/concealed/README.md`).
 """
 
 
@@ -250,8 +256,12 @@ def write_readmes(results):
             f"{fmt(r['chi2_dof_after'])} | {fmt(r['bayes_factor'])} | {r['dem_runs_executed']} | {r['wall_time_s']} |"
             for r in mine)
         summaries = "\n\n".join(f"Noise seed {r['noise_seed']}: {r['summary']}" for r in mine)
+        effects = [r for r in results if r["truth"] != "none"]
+        nulls = [r for r in results if r["truth"] == "none"]
+        overall = (f"the hidden effect named in {sum(r['verdict'] == 'right' for r in effects)} of {len(effects)} "
+                   f"cases, {sum(r['verdict'] == 'false alarm' for r in nulls)} false alarms in {len(nulls)} null cases")
         text = STUDY_README.format(title=TITLES[t["study"]], hidden=hidden[t["effect"]], study=t["study"],
-                                   date=time.strftime("%Y-%m-%d"), rows=rows, summaries=summaries)
+                                   date=time.strftime("%Y-%m-%d"), rows=rows, summaries=summaries, overall=overall)
         (study_file(t["study"]).parent / "README.md").write_text(text)
 
 
@@ -291,7 +301,9 @@ def main():
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
     if args.step == "table":
-        print_table(list(csv.DictReader(open(HERE / "results.csv"))))
+        results = list(csv.DictReader(open(HERE / "results.csv")))
+        print_table(results)
+        write_readmes(results)
         return
     for step, fn in (("studies", step_studies), ("truth", step_truth), ("recordings", step_recordings),
                      ("diagnose", step_diagnose)):

@@ -816,6 +816,14 @@ TEST(DiscrepancyScore, AParameterPressedAgainstItsBoundCannotMimicACandidate) {
   EXPECT_GT(drop, 10.0);
   EXPECT_NEAR(score.lagrange_multiplier, drop, 0.1 * drop);
   EXPECT_LE(score.lagrange_multiplier, drop * (1.0 + 1e-9));
+  // Both parameters pinned (a box below the truth in both): nothing is left to mimic the
+  // candidate, and the test still runs (it once crashed on the empty projector).
+  const std::vector<ParameterBounds> corner = {{"mu_r", kTruth(0) + 0.5, 2.0}, {"mu_s", 0.9, 2.0}};
+  const CalibrationProblem pinned(corner, w.targets(y, false));
+  const Eigen::VectorXd at_corner = calibrate(corner, w.targets(y, false), quick_calibration()).minima.front().theta;
+  const CandidateScore both = score_candidate(pinned, at_corner, signature("lower", 0.0, 5.0, like_mu_s));
+  EXPECT_NEAR(both.orthogonal_fraction, 1.0, 1e-12);
+  EXPECT_EQ(both.status, ScoreStatus::assessed);
   // Inside the box the same signature is the base model's own direction: confounded.
   const std::vector<ParameterBounds> wide = {{"mu_r", -1.0, 2.0}, {"mu_s", -1.0, 2.0}};
   const CalibrationProblem free_problem(wide, w.targets(y, false));
