@@ -15,7 +15,7 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
   const std::filesystem::path p(rec);
   c.recordings = p.is_absolute() ? p : std::filesystem::path(study_file).parent_path() / p;
   if (t.has("alone")) {
-    std::vector<std::string> options = stable_observable_names();
+    std::vector<std::string> options = observable_names();
     options.push_back("");
     c.alone = t.choice("alone", options);
   }

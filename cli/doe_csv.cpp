@@ -86,6 +86,13 @@ DoeCsv read_doe_csv(const std::filesystem::path& path) {
     c_obs.push_back(col(name));
     t.observable_names.push_back(name);
   }
+  // The series observables are newer than some checked-in tables: read when present.
+  for (const auto& name : series_observable_names()) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) continue;
+    c_obs.push_back(static_cast<std::size_t>(it - header.begin()));
+    t.observable_names.push_back(name);
+  }
   const std::size_t first_obs = *std::min_element(c_obs.begin(), c_obs.end());
   if (first_obs <= c_app + 1) fail(t.file, 1, "no parameter columns between \"apparatus\" and the observables");
   std::vector<std::size_t> c_par;

@@ -27,7 +27,7 @@ DoeTable make_doe_table(const DoePlan& plan,
                         const std::vector<std::optional<nlohmann::json>>& records) {
   DoeTable table;
   const auto& params = plan.design.spec.parameters;
-  const std::vector<std::string>& observables = stable_observable_names();
+  const std::vector<std::string>& observables = observable_names();
 
   std::string& csv = table.csv;
   csv = "point,replicate,seed,apparatus";
@@ -63,6 +63,8 @@ DoeTable make_doe_table(const DoePlan& plan,
       nlohmann::json v = nullptr;
       if (record && record->contains("observables") && record->at("observables").contains(o))
         v = record->at("observables").at(o);
+      else if (record && record->contains("observables") && record->contains("series"))
+        v = series_observables(record->at("series"), record->at("observables")).value(o, nlohmann::json());
       csv += ',';
       csv += csv_field(observable_text(v));
       observed[o] = v;

@@ -42,7 +42,10 @@ const std::string& unit_of_observable(const std::string& observable) {
   static const std::map<std::string, std::string> units = {{"angle_of_repose_deg", "deg"},
                                                            {"discharge_time_s", "s"},
                                                            {"mass_flow_rate_kg_s", "kg/s"},
-                                                           {"bulk_density_kg_m3", "kg/m3"}};
+                                                           {"bulk_density_kg_m3", "kg/m3"},
+                                                           {"discharge_t25_s", "s"},
+                                                           {"discharge_t50_s", "s"},
+                                                           {"discharge_t75_s", "s"}};
   return units.at(observable);
 }
 
@@ -76,7 +79,7 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
     r.observable = f[1];
     if (std::find(setups.begin(), setups.end(), r.setup) == setups.end())
       fail(path, n, "setup \"" + r.setup + "\" is not an apparatus of the study; expected one of " + joined(setups));
-    const auto& names = stable_observable_names();
+    const auto& names = observable_names();
     if (std::find(names.begin(), names.end(), r.observable) == names.end())
       fail(path, n, "observable \"" + r.observable + "\" is not one demcal measures; expected one of " + joined(names));
     r.value = number(path, n, "value", f[2]);

@@ -138,6 +138,47 @@ const std::vector<std::string>& stable_observable_names() {
   return names;
 }
 
+const std::vector<std::string>& series_observable_names() {
+  static const std::vector<std::string> names = {"discharge_t25_s", "discharge_t50_s", "discharge_t75_s"};
+  return names;
+}
+
+const std::vector<std::string>& observable_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = stable_observable_names();
+    for (const auto& s : series_observable_names()) n.push_back(s);
+    return n;
+  }();
+  return names;
+}
+
+nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::json& observables) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& name : series_observable_names()) out[name] = nullptr;
+  const bool finished = observables.is_object() && observables.contains("discharge_time_s") &&
+                        observables["discharge_time_s"].is_number();
+  if (!finished || !series.is_object() || !series.contains("discharged_mass")) return out;
+  const nlohmann::json& m = series["discharged_mass"];
+  if (!m.contains("time_s") || !m.contains("mass_kg")) return out;
+  const auto t = m["time_s"].get<std::vector<double>>();
+  const auto mass = m["mass_kg"].get<std::vector<double>>();
+  if (t.size() != mass.size() || mass.empty() || !(mass.back() > 0.0)) return out;
+  const double fractions[] = {0.25, 0.50, 0.75};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double target = fractions[k] * mass.back();
+    for (std::size_t i = 0; i < mass.size(); ++i) {
+      if (mass[i] < target) continue;
+      // Linear between the samples around the crossing: the series is sampled every few ms.
+      double v = t[i];
+      if (i > 0 && mass[i] > mass[i - 1])
+        v = t[i - 1] + (target - mass[i - 1]) / (mass[i] - mass[i - 1]) * (t[i] - t[i - 1]);
+      out[series_observable_names()[k]] = v;
+      break;
+    }
+  }
+  return out;
+}
+
 nlohmann::json with_stable_observables(nlohmann::json observables) {
   if (!observables.is_object()) observables = nlohmann::json::object();
   for (const std::string& name : stable_observable_names())
@@ -158,6 +199,8 @@ nlohmann::json make_apparatus_run_record(const StudyConfig& study, const StudyAp
   r["results"] = res;
   r["observables"] = with_stable_observables(result ? result->observables : nlohmann::json());
   r["series"] = result ? result->series : nlohmann::json::object();
+  const nlohmann::json from_series = series_observables(r["series"], r["observables"]);
+  for (const auto& [name, v] : from_series.items()) r["observables"][name] = v;
   r["details"] = result ? result->details : nlohmann::json::object();
   r["outputs"] = outputs_json(results);
   return r;

@@ -54,8 +54,20 @@ nlohmann::json make_apparatus_run_record(const StudyConfig& study, const StudyAp
                                          const dem::ApparatusResult* result);
 
 // angle_of_repose_deg, discharge_time_s, mass_flow_rate_kg_s, bulk_density_kg_m3:
-// the names a campaign reads from every apparatus run.
+// the names a campaign reads from every apparatus run (every design table has them).
 const std::vector<std::string>& stable_observable_names();
+// discharge_t25_s, discharge_t50_s, discharge_t75_s: the m(t) series in three numbers --
+// the time from the orifice's opening until 25, 50 and 75 % of the mass that finally
+// passed had passed -- so that recordings, surrogates and the mismatch location can
+// follow the segments of the discharge (a cohesive fill slows its end, air drag all of
+// it). Read off the record's series.discharged_mass, so runs stored before these names
+// existed give them too; null without a finished discharge (no m(t), or a clog).
+const std::vector<std::string>& series_observable_names();
+// The stable names, then the series ones: what a design table, a recording or a
+// surrogate may name.
+const std::vector<std::string>& observable_names();
+// The series observables of a run record's "series" and "observables" (see above).
+nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::json& observables);
 // `observables` with every stable name present (null where not measured).
 nlohmann::json with_stable_observables(nlohmann::json observables);
 

@@ -10,7 +10,7 @@ std::optional<SurrogateConfig> read_surrogate(reader::Table& root) {
   SurrogateConfig c;
   auto& s = c.spec;
   s.model = t.choice_or("model", {"gaussian_process", "polynomial"}, "gaussian_process");
-  c.observables = t.strings_or("observables", stable_observable_names(), {});
+  c.observables = t.strings_or("observables", observable_names(), {});
   const bool gp = s.model == "gaussian_process";
   const char* gp_only[] = {"kernel", "mean", "nugget", "starts", "seed"};
   if (gp) {

@@ -46,7 +46,30 @@ INSTRUMENT = [
     ("angle_of_repose_deg", "deg", 0.5, 0.0),      # a protractor on a photograph
     ("discharge_time_s", "s", 0.0, 0.01),          # stopwatch / video, 1 %
     ("bulk_density_kg_m3", "kg/m3", 0.0, 0.005),   # mass and volume of the fill, 0.5 %
+    # m(t) from a balance under the lower chamber, read at 25, 50, 75 % of the mass passed
+    ("discharge_t25_s", "s", 0.0, 0.01),
+    ("discharge_t50_s", "s", 0.0, 0.01),
+    ("discharge_t75_s", "s", 0.0, 0.01),
 ]
+
+
+def series_observables(rec):
+    """The m(t) segments of a run record as demcal reads them (cli/run_record.hpp,
+    series_observables): for runs recorded before demcal wrote them itself."""
+    out = {}
+    obs, series = rec.get("observables", {}), rec.get("series", {})
+    m = series.get("discharged_mass")
+    if obs.get("discharge_time_s") is None or not m or not m.get("mass_kg") or not m["mass_kg"][-1] > 0:
+        return out
+    t, mass = m["time_s"], m["mass_kg"]
+    for name, f in (("discharge_t25_s", 0.25), ("discharge_t50_s", 0.5), ("discharge_t75_s", 0.75)):
+        target = f * mass[-1]
+        for i, v in enumerate(mass):
+            if v >= target:
+                out[name] = t[i] if i == 0 or not v > mass[i - 1] else \
+                    t[i - 1] + (target - mass[i - 1]) / (v - mass[i - 1]) * (t[i] - t[i - 1])
+                break
+    return out
 TITLES = {
     "concealed-cohesion": "Concealed-effect study: cohesion",
     "concealed-wall-friction": "Concealed-effect study: particle-wall friction",
@@ -122,8 +145,9 @@ def step_truth(args):
     rows = []
     for t, s, setup, run_dir in jobs:
         rec = json.load(open(run_dir / "run.json"))
+        derived = series_observables(rec)
         for name, _, _, _ in INSTRUMENT:
-            v = rec["observables"].get(name)
+            v = rec["observables"].get(name, derived.get(name))
             if v is not None:
                 rows.append({"study": t["study"], "seed": s, "setup": setup, "observable": name, "value": repr(v),
                              "wall_time_s": f"{rec['results']['wall_time_s']:.2f}"})

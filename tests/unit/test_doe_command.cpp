@@ -143,7 +143,7 @@ TEST_F(DoeCommandTest, RunsEveryPointAndReplicateIntoTheStoreAndTable) {
   std::getline(csv, line);
   EXPECT_EQ(line,
             "point,replicate,seed,apparatus,mu_r,angle_of_repose_deg,discharge_time_s,"
-            "mass_flow_rate_kg_s,bulk_density_kg_m3,status,hash");
+            "mass_flow_rate_kg_s,bulk_density_kg_m3,discharge_t25_s,discharge_t50_s,discharge_t75_s,status,hash");
   const std::vector<std::string> expected_heads = {
       "0,0,1,rectangular_container,0.1,", "0,1,2,rectangular_container,0.1,",
       "1,0,1,rectangular_container,0.4,", "1,1,2,rectangular_container,0.4,"};
@@ -340,7 +340,7 @@ parameters = { "protocol.time_step_fraction_of_rayleigh" = { lower = 0.5, upper 
   EXPECT_EQ(first.failed, 1u);
   EXPECT_TRUE(first.complete()) << "a failed run is a result";
   const std::string csv = slurp(first.table_csv);
-  EXPECT_NE(csv.find(",1,rectangular_container,1,,,,,failed,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",1,rectangular_container,1,,,,,,,,failed,"), std::string::npos) << csv;
   const auto table = nlohmann::json::parse(slurp(first.table_json));
   EXPECT_NE(table["rows"][1]["error"].get<std::string>().find("unstable"), std::string::npos);
 
