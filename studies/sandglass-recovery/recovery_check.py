@@ -12,8 +12,10 @@ Each set is calibrated on the checked-in design table (doe.csv: 5 x 5 points x 4
 replicates) on AoR + time and on AoR alone; this script counts how often the AoR + time
 95 % region holds the truth and how much larger the AoR-alone region is.
 
-usage: recovery_check.py [--demcal PATH] [--seeds N] [--make-truth]
-prints a table and writes out/sandglass-recovery/check/summary.json
+usage: recovery_check.py [--demcal PATH] [--seeds N] [--make-truth] [--map]
+prints a table and writes out/sandglass-recovery/check/summary.json; --map instead puts the
+truth at every design point in turn (recordings = the mean of its 4 runs, same sigmas and
+repeats, no noise) and prints the area ratio there: where in the plane the time helps
 """
 
 import argparse
@@ -61,11 +63,34 @@ def recordings(truth, k):
     return "\n".join(lines) + "\n"
 
 
+def ratio_map(demcal, common):
+    points = {}
+    for r in csv.DictReader(open(HERE / "doe.csv")):
+        points.setdefault((float(r["mu_r"]), float(r["mu_s"])), []).append(r)
+    ratios = []
+    for (mr, ms), runs in sorted(points.items(), key=lambda kv: (-kv[0][1], kv[0][0])):
+        lines = ["setup,observable,value,sigma,unit,repeats"]
+        for name, (unit, sd_abs, sd_rel) in INSTRUMENT.items():
+            mean = sum(float(r[name]) for r in runs) / len(runs)
+            lines.append(f"sandglass,{name},{mean:.6g},{sd_abs + sd_rel * mean:.3g},{unit},10")
+        rec = OUT / "recordings-map.csv"
+        rec.write_text("\n".join(lines) + "\n")
+        subprocess.run([demcal, "calibrate", str(STUDY)] + common +
+                       ["--set", f"calibration.recordings={rec}", "--set", "calibration.mcmc_samples=2000",
+                        "--set", f"calibration.reference_point=[{mr}, {ms}]"], check=True, capture_output=True)
+        c = json.load(open(OUT / "sandglass-recovery" / "reports" / "calibration" / "calibration.json"))["comparison"]
+        ratios.append(c["ratio"])
+        print(f"truth ({mr:.3f}, {ms:.3f}): area ratio {c['ratio']:5.2f}  ({c['area_a']:.3f} / {c['area_b']:.3f})")
+    print(f"\narea ratio over the {len(ratios)} design points: median {statistics.median(ratios):.2f}, "
+          f"min {min(ratios):.2f}, max {max(ratios):.2f}, >= 3 at {sum(x >= 3 for x in ratios)}")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--demcal", default=str(ROOT / "build" / "cli" / "demcal"))
     p.add_argument("--seeds", type=int, default=20)
     p.add_argument("--make-truth", action="store_true", help="run the ten truth runs (about 3 CPU-min)")
+    p.add_argument("--map", action="store_true", help="the area ratio with the truth at each design point")
     a = p.parse_args()
     OUT.mkdir(parents=True, exist_ok=True)
     if a.make_truth:
@@ -73,6 +98,9 @@ def main():
     truth = list(csv.DictReader(open(HERE / "truth_runs.csv")))
     common = ["--output", str(OUT), "--doe", str(HERE / "doe.csv"), "-q"]
     subprocess.run([a.demcal, "fit", str(STUDY)] + common, check=True, capture_output=True)
+    if a.map:
+        ratio_map(a.demcal, common)
+        return
     results = []
     for k in range(1, a.seeds + 1):
         rec = OUT / f"recordings-seed{k}.csv"
