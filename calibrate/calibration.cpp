@@ -1,5 +1,7 @@
 #include "calibrate/calibration.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include <gsl/gsl_cdf.h>
 
 #include <algorithm>
@@ -19,13 +21,7 @@ constexpr double kWeakShare = 0.1;
 // Effective samples below which posterior summaries are flagged as rough.
 constexpr double kFewEffectiveSamples = 200.0;
 
-std::string fmt(double x, int digits = 3) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
+using detail::fmt;
 std::string percent(double confidence) { return fmt(100.0 * confidence, 3) + " %"; }
 
 std::string vector_text(const Eigen::VectorXd& v, int digits = 2) {
@@ -235,8 +231,7 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
   return a;
 }
 
-// nlohmann writes NaN as null already; this keeps the intent visible where NaN is expected.
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::number_json;
 
 nlohmann::json vector_json(const std::vector<double>& v) {
   nlohmann::json a = nlohmann::json::array();

@@ -1,5 +1,7 @@
 #include "calibrate/candidate_score.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include "calibrate/mismatch_detection.hpp"
 
 #include <gsl/gsl_cdf.h>
@@ -21,14 +23,8 @@ constexpr double kProjectorRankTolerance = 1e-10;
 // Within this fraction of its range from a bound, a parameter counts as at the bound.
 constexpr double kAtBoundFraction = 1e-6;
 
-std::string fmt(double x, int digits = 3) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::fmt;
+using detail::number_json;
 
 void check_candidate(const CandidateSignature& c, Eigen::Index n) {
   const std::string who = "score_candidate: candidate '" + c.name + "'";

@@ -1,5 +1,7 @@
 #include "calibrate/discrepancy_diagnosis.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include <gsl/gsl_cdf.h>
 
 #include <algorithm>
@@ -19,14 +21,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kAtBoundTolerance = 1e-6;  // bound-scaled, as Minimum::at_bound
 
-std::string fmt(double x, int digits = 3) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::fmt;
+using detail::number_json;
 
 nlohmann::json vector_json(const Eigen::VectorXd& v) {
   nlohmann::json a = nlohmann::json::array();

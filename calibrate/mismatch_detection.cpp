@@ -1,5 +1,7 @@
 #include "calibrate/mismatch_detection.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include <gsl/gsl_cdf.h>
 
 #include <cmath>
@@ -15,14 +17,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // approximation's own error dominates.
 constexpr double kSmallestPrintedP = 1e-6;
 
-std::string fmt(double x, int digits) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::fmt;
+using detail::number_json;
 
 void check_alpha(double alpha) {
   if (!(alpha > 0.0 && alpha < 1.0))

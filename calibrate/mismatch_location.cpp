@@ -1,5 +1,7 @@
 #include "calibrate/mismatch_location.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include "calibrate/mismatch_detection.hpp"
 
 #include <gsl/gsl_cdf.h>
@@ -18,14 +20,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string fmt(double x, int digits = 3) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::fmt;
+using detail::number_json;
 
 nlohmann::json vector_json(const Eigen::VectorXd& v) {
   nlohmann::json a = nlohmann::json::array();

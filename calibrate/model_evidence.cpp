@@ -1,5 +1,7 @@
 #include "calibrate/model_evidence.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include <Eigen/Cholesky>
 
 #include <algorithm>
@@ -17,14 +19,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Minimum::at_bound).
 constexpr double kAtBoundTolerance = 1e-6;
 
-std::string fmt(double x, int digits = 3) {
-  if (std::isnan(x)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-  return buf;
-}
-
-nlohmann::json number_json(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+using detail::fmt;
+using detail::number_json;
 
 // A Bayes factor for sentences: 140, 3.2, "> 1e6" beyond the range where digits matter.
 std::string factor_text(double log_b) {
