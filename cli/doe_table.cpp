@@ -59,12 +59,16 @@ DoeTable make_doe_table(const DoePlan& plan,
       values[params[i].name] = v;
     }
     nlohmann::json observed = nlohmann::json::object();
+    // A run stored before the series observables existed: read them off its series, once.
+    const nlohmann::json derived = record && record->contains("observables") && record->contains("series")
+                                       ? series_observables(record->at("series"), record->at("observables"))
+                                       : nlohmann::json::object();
     for (const auto& o : observables) {
       nlohmann::json v = nullptr;
       if (record && record->contains("observables") && record->at("observables").contains(o))
         v = record->at("observables").at(o);
-      else if (record && record->contains("observables") && record->contains("series"))
-        v = series_observables(record->at("series"), record->at("observables")).value(o, nlohmann::json());
+      else
+        v = derived.value(o, nlohmann::json());
       csv += ',';
       csv += csv_field(observable_text(v));
       observed[o] = v;
