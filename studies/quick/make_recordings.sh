@@ -1,6 +1,7 @@
 #!/bin/bash
 # Makes the quick study's synthetic recordings with the engine: the quick
-# Sandglass at (mu_r, mu_s) = (0.25, 0.45) -- not a design point -- run with
+# Sandglass, lined (the walls' sliding friction is mu_s too, as the design's
+# also_sets makes it), at (mu_r, mu_s) = (0.25, 0.45) -- not a design point -- run with
 # five seeds the design does not use, as a laboratory repeats a test five
 # times. The recorded value is the mean of the five plus a Gaussian instrument
 # error (AoR 0.5 deg, time 0.01 s) drawn with NOISE_SEED; sigma is that
@@ -15,7 +16,8 @@ SEEDS=${SEEDS:-"101 102 103 104 105"}
 NOISE_SEED=${NOISE_SEED:-1}
 tmp=$(mktemp -d)
 for s in $SEEDS; do
-  "$DEMCAL" simulate "$here/study.toml" --quiet --threads 1 --set mu_r=0.25 --set mu_s=0.45 --set study.seed=$s \
+  "$DEMCAL" simulate "$here/study.toml" --quiet --threads 1 --set mu_r=0.25 --set mu_s=0.45 \
+    --set interaction.particle_wall.sliding_friction=0.45 --set study.seed=$s \
     --output "$tmp/s$s" > /dev/null
 done
 python3 - "$tmp" "$NOISE_SEED" <<'PY'

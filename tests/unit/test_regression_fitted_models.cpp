@@ -142,7 +142,8 @@ TEST(RegressionOnFittedModels, SandglassCalibrationSurrogatesAndCalibrationMatch
   // the stated point is recovered, and the discharge time narrows the region
   // AoR alone leaves. In this quick slice model it narrows it by only about
   // 1.6x (0.226 vs 0.144): AoR and time rise together with both frictions
-  // here, so their iso-lines cross at a shallow angle (studies/quick/README.md).
+  // here, so their iso-lines cross at a shallow angle (studies/sandglass-recovery/README.md;
+  // walls lined with the sand make them cross: studies/sandglass-recovery-lined).
   EXPECT_NEAR(now["calibration"]["best"][0].get<double>(), 0.25, 1e-3);
   EXPECT_NEAR(now["calibration"]["best"][1].get<double>(), 0.45, 1e-3);
   EXPECT_GT(now["calibration"]["area_aor_alone"].get<double>(), 1.3 * now["calibration"]["area_joint"].get<double>());
