@@ -2,6 +2,8 @@
 
 #include "cli/run_record.hpp"
 
+#include <algorithm>
+
 namespace demcal::cli {
 namespace {
 
@@ -59,14 +61,20 @@ DoeTable make_doe_table(const DoePlan& plan,
       values[params[i].name] = v;
     }
     nlohmann::json observed = nlohmann::json::object();
-    // A run stored before the series observables existed: read them off its series, once.
-    const nlohmann::json derived = record && record->contains("observables") && record->contains("series")
-                                       ? series_observables(record->at("series"), record->at("observables"))
-                                       : nlohmann::json::object();
+    const nlohmann::json* stored =
+        record && record->contains("observables") ? &record->at("observables") : nullptr;
+    // A run stored before the series observables existed: read them off its series, once;
+    // a newer record has them already.
+    nlohmann::json derived = nlohmann::json::object();
+    const auto& series_names = series_observable_names();
+    if (stored && record->contains("series") &&
+        std::any_of(series_names.begin(), series_names.end(),
+                    [&](const std::string& n) { return !stored->contains(n); }))
+      derived = series_observables(record->at("series"), *stored);
     for (const auto& o : observables) {
       nlohmann::json v = nullptr;
-      if (record && record->contains("observables") && record->at("observables").contains(o))
-        v = record->at("observables").at(o);
+      if (stored && stored->contains(o))
+        v = stored->at(o);
       else
         v = derived.value(o, nlohmann::json());
       csv += ',';

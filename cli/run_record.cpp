@@ -138,8 +138,21 @@ const std::vector<std::string>& stable_observable_names() {
   return names;
 }
 
+namespace {
+struct SeriesPoint {
+  const char* name;
+  double fraction;  // of the final discharged mass
+};
+constexpr SeriesPoint kSeriesPoints[] = {
+    {"discharge_t25_s", 0.25}, {"discharge_t50_s", 0.50}, {"discharge_t75_s", 0.75}};
+}  // namespace
+
 const std::vector<std::string>& series_observable_names() {
-  static const std::vector<std::string> names = {"discharge_t25_s", "discharge_t50_s", "discharge_t75_s"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const SeriesPoint& p : kSeriesPoints) n.emplace_back(p.name);
+    return n;
+  }();
   return names;
 }
 
@@ -163,16 +176,15 @@ nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::
   const auto t = m["time_s"].get<std::vector<double>>();
   const auto mass = m["mass_kg"].get<std::vector<double>>();
   if (t.size() != mass.size() || mass.empty() || !(mass.back() > 0.0)) return out;
-  const double fractions[] = {0.25, 0.50, 0.75};
-  for (std::size_t k = 0; k < 3; ++k) {
-    const double target = fractions[k] * mass.back();
+  for (const SeriesPoint& p : kSeriesPoints) {
+    const double target = p.fraction * mass.back();
     for (std::size_t i = 0; i < mass.size(); ++i) {
       if (mass[i] < target) continue;
       // Linear between the samples around the crossing: the series is sampled every few ms.
       double v = t[i];
       if (i > 0 && mass[i] > mass[i - 1])
         v = t[i - 1] + (target - mass[i - 1]) / (mass[i] - mass[i - 1]) * (t[i] - t[i - 1]);
-      out[series_observable_names()[k]] = v;
+      out[p.name] = v;
       break;
     }
   }
@@ -190,8 +202,7 @@ nlohmann::json make_apparatus_run_record(const StudyConfig& study, const StudyAp
                                          const RunResults& results,
                                          const dem::ApparatusResult* result) {
   const dem::Simulation& sim = apparatus.apparatus->simulation();
-  nlohmann::json r =
-      record_header(study.file, resolved_for(study, apparatus.name), sim, results);
+  nlohmann::json r = record_header(study.file, resolved_for(study, apparatus.name), sim, results);
   r["study"] = study.name;
   r["apparatus"] = apparatus.name;
   nlohmann::json res = common_results(sim, results);

@@ -94,11 +94,21 @@ def recordings(truth, k, fresh):
         # Too few truth runs for that: the ten tests drawn again from the same runs. Every seed then shares
         # those runs' mean, and with it their mean's error: the seeds are not independent laboratories.
         sample = [rng.choice(truth) for _ in range(TESTS_PER_LABORATORY)]
+    means = {name: sum(float(r[name]) for r in sample) / len(sample) for name in INSTRUMENT}
+    noisy = {name: mean + rng.gauss(0.0, instrument_sigma(name, mean)) for name, mean in means.items()}
+    return recordings_csv(noisy, means, len(sample))
+
+
+def instrument_sigma(name, mean):
+    _, sd_abs, sd_rel = INSTRUMENT[name]
+    return sd_abs + sd_rel * mean
+
+
+def recordings_csv(values, means, repeats):
+    """The recordings file: each value with the instrument's sigma at its noise-free mean."""
     lines = ["setup,observable,value,sigma,unit,repeats"]
-    for name, (unit, sd_abs, sd_rel) in INSTRUMENT.items():
-        mean = sum(float(r[name]) for r in sample) / len(sample)
-        sigma = sd_abs + sd_rel * mean
-        lines.append(f"sandglass,{name},{mean + rng.gauss(0.0, sigma):.6g},{sigma:.3g},{unit},{len(sample)}")
+    for name, (unit, _, _) in INSTRUMENT.items():
+        lines.append(f"sandglass,{name},{values[name]:.6g},{instrument_sigma(name, means[name]):.3g},{unit},{repeats}")
     return "\n".join(lines) + "\n"
 
 
@@ -118,11 +128,8 @@ def ratio_map(demcal, study, common):
             # E.g. the lined Sandglass at mu_s = 0.2: the pile slides apart on the floor, no AoR to record.
             print(f"truth ({mr:.3f}, {ms:.3f}): no run gave a value of {', '.join(missing)}: skipped")
             continue
-        lines = ["setup,observable,value,sigma,unit,repeats"]
-        for name, (unit, sd_abs, sd_rel) in INSTRUMENT.items():
-            lines.append(f"sandglass,{name},{means[name]:.6g},{sd_abs + sd_rel * means[name]:.3g},{unit},10")
         rec = study.out / "recordings-map.csv"
-        rec.write_text("\n".join(lines) + "\n")
+        rec.write_text(recordings_csv(means, means, TESTS_PER_LABORATORY))
         subprocess.run([demcal, "calibrate", str(study.toml)] + common +
                        ["--set", f"calibration.recordings={rec}", "--set", "calibration.mcmc_samples=2000",
                         "--set", f"calibration.reference_point=[{mr}, {ms}]"], check=True, capture_output=True)

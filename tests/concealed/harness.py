@@ -271,6 +271,10 @@ def write_readmes(results):
         "size_spread": "one effect switched on that the base model leaves out (its name is the folder's)",
         "none": "nothing missing: the base model's own physics, noise added",
     }
+    effects = [r for r in results if r["truth"] != "none"]
+    nulls = [r for r in results if r["truth"] == "none"]
+    overall = (f"the hidden effect named in {sum(r['verdict'] == 'right' for r in effects)} of {len(effects)} "
+               f"cases, {sum(r['verdict'] == 'false alarm' for r in nulls)} false alarms in {len(nulls)} null cases")
     for t in truths():
         mine = [r for r in results if r["study"] == t["study"]]
         if not mine:
@@ -280,10 +284,6 @@ def write_readmes(results):
             f"{fmt(r['chi2_dof_after'])} | {fmt(r['bayes_factor'])} | {r['dem_runs_executed']} | {r['wall_time_s']} |"
             for r in mine)
         summaries = "\n\n".join(f"Noise seed {r['noise_seed']}: {r['summary']}" for r in mine)
-        effects = [r for r in results if r["truth"] != "none"]
-        nulls = [r for r in results if r["truth"] == "none"]
-        overall = (f"the hidden effect named in {sum(r['verdict'] == 'right' for r in effects)} of {len(effects)} "
-                   f"cases, {sum(r['verdict'] == 'false alarm' for r in nulls)} false alarms in {len(nulls)} null cases")
         text = STUDY_README.format(title=TITLES[t["study"]], hidden=hidden[t["effect"]], study=t["study"],
                                    date=time.strftime("%Y-%m-%d"), rows=rows, summaries=summaries, overall=overall)
         (study_file(t["study"]).parent / "README.md").write_text(text)
