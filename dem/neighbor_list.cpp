@@ -16,10 +16,18 @@ int shift_code(int ox, int oy, int oz) { return (ox + 1) + 3 * (oy + 1) + 9 * (o
 }  // namespace
 
 void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>& radius,
-                         const Domain& domain, double skin_m, int threads) {
+                         const Domain& domain, double skin_m, ThreadTeam* team) {
   const std::size_t n = pos.size();
   skin_m_ = skin_m;
-  threads_ = threads;
+  // Static split over the team's members: the list comes out the same for any team.
+  const int members = team == nullptr ? 1 : team->size();
+  auto for_each_member = [&](auto&& body) {
+    if (members == 1) {
+      body(0, std::size_t{0}, n);
+      return;
+    }
+    team->run([&](int m) { body(m, ThreadTeam::split(n, members, m), ThreadTeam::split(n, members, m + 1)); });
+  };
   ++builds_;
 
   double r_max = 0.0;
@@ -115,13 +123,23 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
     }
   };
 
+  // One search: each member lists the pairs of its particles into its own
+  // buffers, which are then laid end to end in member order.
+  if (found_.size() < static_cast<std::size_t>(members)) found_.resize(static_cast<std::size_t>(members));
   count_.assign(n + 1, 0);
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t cnt = 0;
-    for_each_neighbor(i, [&](std::uint32_t, int) { ++cnt; });
-    count_[i + 1] = cnt;
-  }
+  for_each_member([&](int m, std::size_t begin, std::size_t end) {
+    Found& f = found_[static_cast<std::size_t>(m)];
+    f.partner.clear();
+    f.code.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t before = f.partner.size();
+      for_each_neighbor(i, [&](std::uint32_t j, int code) {
+        f.partner.push_back(j);
+        f.code.push_back(static_cast<std::uint8_t>(code));
+      });
+      count_[i + 1] = static_cast<std::uint32_t>(f.partner.size() - before);
+    }
+  });
   std::vector<std::uint32_t> first(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) first[i + 1] = first[i] + count_[i + 1];
   const std::size_t pairs = first[n];
@@ -132,29 +150,26 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   std::vector<std::uint8_t> touching(pairs, 0);
   const std::size_t old_n = first_.empty() ? 0 : first_.size() - 1;
 
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t p = first[i];
-    for_each_neighbor(i, [&](std::uint32_t j, int code) {
-      partner[p] = j;
-      codes[p] = static_cast<std::uint8_t>(code);
-      // Carry the history of a pair that was already touching. Pairs are matched
-      // by partner alone: with the slab at least two cut-offs thick a pair meets
-      // through one image only, and that image changes when a particle is wrapped.
-      if (i < old_n) {
-        for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
-          if (partner_[q] == j) {
-            if (touching_[q]) {
-              history[p] = history_[q];
-              touching[p] = 1;
-            }
+  for_each_member([&](int m, std::size_t begin, std::size_t end) {
+    const Found& f = found_[static_cast<std::size_t>(m)];
+    std::copy(f.partner.begin(), f.partner.end(), partner.begin() + first[begin]);
+    std::copy(f.code.begin(), f.code.end(), codes.begin() + first[begin]);
+    // Carry the history of the pairs that were touching. Pairs are matched by
+    // partner alone: with the slab at least two cut-offs thick a pair meets
+    // through one image only, and that image changes when a particle is wrapped.
+    for (std::size_t i = begin; i < std::min(end, old_n); ++i) {
+      for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
+        if (!touching_[q]) continue;
+        for (std::uint32_t p = first[i]; p < first[i + 1]; ++p) {
+          if (partner[p] == partner_[q]) {
+            history[p] = history_[q];
+            touching[p] = 1;
             break;
           }
         }
       }
-      ++p;
-    });
-  }
+    }
+  });
 
   first_ = std::move(first);
   partner_ = std::move(partner);
@@ -168,7 +183,6 @@ double NeighborList::max_displacement_m(const std::vector<Vec3>& pos) const {
   if (pos.size() != position_at_build_.size()) return std::numeric_limits<double>::infinity();
   double max2 = 0.0;
   const std::size_t n = pos.size();
-#pragma omp parallel for schedule(static) num_threads(threads_) reduction(max : max2)
   for (std::size_t i = 0; i < n; ++i) max2 = std::max(max2, norm2(pos[i] - position_at_build_[i]));
   return std::sqrt(max2);
 }

@@ -9,6 +9,7 @@
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/domain.hpp"
+#include "dem/thread_team.hpp"
 #include "dem/vec3.hpp"
 
 #include <array>
@@ -21,9 +22,10 @@ class NeighborList {
  public:
   // Positions must lie inside the box along periodic axes (wrap them first).
   // Throws std::runtime_error when a periodic axis is shorter than twice the
-  // cut-off (a particle would meet two images of the same neighbour).
+  // cut-off (a particle would meet two images of the same neighbour). The
+  // per-particle passes run on the team when one is given.
   void build(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
-             const Domain& domain, double skin_m, int threads = 1);
+             const Domain& domain, double skin_m, ThreadTeam* team = nullptr);
 
   // True when some particle has moved more than half the skin since the build.
   bool needs_rebuild(const std::vector<Vec3>& position_m) const;
@@ -52,7 +54,6 @@ class NeighborList {
   std::array<Vec3, 27> shift_table_{};
   std::vector<Vec3> position_at_build_;
   double skin_m_ = 0.0;
-  int threads_ = 1;
   std::size_t builds_ = 0;
 
   // Scratch reused between builds.
@@ -60,6 +61,11 @@ class NeighborList {
   std::vector<std::uint32_t> cell_particles_;
   std::vector<std::uint32_t> cell_of_;
   std::vector<std::uint32_t> count_;
+  struct Found {  // one member's pairs during a build
+    std::vector<std::uint32_t> partner;
+    std::vector<std::uint8_t> code;
+  };
+  std::vector<Found> found_;
 };
 
 }  // namespace demcal::dem

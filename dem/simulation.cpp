@@ -1,7 +1,5 @@
 #include "dem/simulation.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -164,8 +162,11 @@ void Simulation::prepare() {
   std::sort(wall_change_times_.begin(), wall_change_times_.end());
   wall_loads_.assign(walls_.size(), WallLoad{});
   wall_candidates_.resize(walls_.size());
+  team_ = std::make_unique<ThreadTeam>(options_.threads);
+  member_scratch_.assign(static_cast<std::size_t>(options_.threads), MemberScratch{});
   thread_force_.resize(options_.threads);
   thread_torque_.resize(options_.threads);
+  thread_wall_loads_.resize(options_.threads);
   prepared_ = true;
   run_inserters();
   rebuild_neighbors();
@@ -228,7 +229,7 @@ void Simulation::rebuild_neighbors() {
     if (!dom.periodic[k]) continue;
     for (auto& p : x) p[k] -= len[k] * std::floor((p[k] - dom.lower_m[k]) / len[k]);
   }
-  neighbors_.build(x, particles_.radius_m, dom, skin_m_, options_.threads);
+  neighbors_.build(x, particles_.radius_m, dom, skin_m_, team_.get());
 
   // Wall candidates: particles within skin of each wall; history follows the particle.
   wall_offset_at_build_.resize(walls_.size());
@@ -253,6 +254,38 @@ void Simulation::rebuild_neighbors() {
     wall_offset_at_build_[w] = walls_[w]->motion().displacement_m(time_s_);
   }
   rebuild_requested_ = false;
+  split_ownership();
+}
+
+void Simulation::split_ownership() {
+  const int members = team_->size();
+  const std::size_t n = particles_.size();
+  owner_begin_.assign(static_cast<std::size_t>(members) + 1, n);
+  owner_begin_[0] = 0;
+  window_end_.assign(static_cast<std::size_t>(members), n);
+  if (members == 1) return;
+  // Cost of particles [0, i): their listed pairs plus one unit each for the
+  // particle itself; each member gets an equal share.
+  auto cost = [&](std::size_t i) { return static_cast<double>(neighbors_.first(i)) + static_cast<double>(i); };
+  const double total = cost(n);
+  std::size_t lo = 0;
+  for (int m = 1; m < members; ++m) {
+    const double target = total * m / members;
+    std::size_t a = lo, b = n;
+    while (a < b) {
+      const std::size_t mid = a + (b - a) / 2;
+      if (cost(mid) < target) a = mid + 1; else b = mid;
+    }
+    owner_begin_[static_cast<std::size_t>(m)] = a;
+    lo = a;
+  }
+  for (int m = 0; m < members; ++m) {
+    std::size_t end = owner_begin_[static_cast<std::size_t>(m) + 1];
+    for (std::size_t i = owner_begin_[static_cast<std::size_t>(m)]; i < owner_begin_[static_cast<std::size_t>(m) + 1]; ++i)
+      for (std::uint32_t p = neighbors_.first(i); p < neighbors_.first(i + 1); ++p)
+        end = std::max<std::size_t>(end, neighbors_.partner(p) + 1);
+    window_end_[static_cast<std::size_t>(m)] = end;
+  }
 }
 
 void Simulation::step() {
@@ -283,18 +316,24 @@ void Simulation::step() {
   torque_before_.resize(n);
   const auto& x_build = neighbors_.positions_at_build();
   const bool comparable = x_build.size() == n;
+  const int members = team_->size();
+  team_->run([&](int m) {
+    double max_move2 = 0.0;
+    const std::size_t end = ThreadTeam::split(n, members, m + 1);
+    for (std::size_t i = ThreadTeam::split(n, members, m); i < end; ++i) {
+      const Vec3 dv = (h * im[i]) * f[i];
+      const Vec3 dw = (h * ii[i]) * t[i];
+      x[i] += dt_ * (v[i] + dv);
+      v[i] += 2.0 * dv;
+      w[i] += 2.0 * dw;
+      force_before_[i] = f[i];
+      torque_before_[i] = t[i];
+      if (comparable) max_move2 = std::max(max_move2, norm2(x[i] - x_build[i]));
+    }
+    member_scratch_[m].max_move2 = max_move2;
+  });
   double max_move2 = 0.0;
-#pragma omp parallel for schedule(static) num_threads(options_.threads) reduction(max : max_move2)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 dv = (h * im[i]) * f[i];
-    const Vec3 dw = (h * ii[i]) * t[i];
-    x[i] += dt_ * (v[i] + dv);
-    v[i] += 2.0 * dv;
-    w[i] += 2.0 * dw;
-    force_before_[i] = f[i];
-    torque_before_[i] = t[i];
-    if (comparable) max_move2 = std::max(max_move2, norm2(x[i] - x_build[i]));
-  }
+  for (int m = 0; m < members; ++m) max_move2 = std::max(max_move2, member_scratch_[m].max_move2);
   time_s_ += dt_;
 
   const double half_skin = 0.5 * neighbors_.skin_m();
@@ -309,21 +348,24 @@ void Simulation::step() {
   }
   if (rebuild) rebuild_neighbors();
 
-  compute_forces();
-
-  // The second kick, and the stability check in the same pass.
+  // Forces, then the second kick and the stability check on the same pass
+  // over the particles, inside the force computation's team run.
   const Domain& dom = options_.domain;
   const double vmax2 = max_speed_m_s_ * max_speed_m_s_;
+  compute_forces([&](std::size_t begin, std::size_t end) {
+    std::size_t first_bad = n;
+    for (std::size_t i = begin; i < end; ++i) {
+      v[i] += (h * im[i]) * (f[i] - force_before_[i]);
+      w[i] += (h * ii[i]) * (t[i] - torque_before_[i]);
+      bool bad = !is_finite(x[i]) || !is_finite(v[i]) || norm2(v[i]) > vmax2;
+      for (int k = 0; k < 3; ++k)
+        if (!dom.periodic[k] && !dom.inside(x[i], k)) bad = true;
+      if (bad) first_bad = std::min(first_bad, i);
+    }
+    return first_bad;
+  });
   std::size_t first_bad = n;
-#pragma omp parallel for schedule(static) num_threads(options_.threads) reduction(min : first_bad)
-  for (std::size_t i = 0; i < n; ++i) {
-    v[i] += (h * im[i]) * (f[i] - force_before_[i]);
-    w[i] += (h * ii[i]) * (t[i] - torque_before_[i]);
-    bool bad = !is_finite(x[i]) || !is_finite(v[i]) || norm2(v[i]) > vmax2;
-    for (int k = 0; k < 3; ++k)
-      if (!dom.periodic[k] && !dom.inside(x[i], k)) bad = true;
-    if (bad) first_bad = std::min(first_bad, i);
-  }
+  for (int m = 0; m < members; ++m) first_bad = std::min(first_bad, member_scratch_[m].first_bad);
   ++steps_;
   particle_steps_ += static_cast<double>(n);
   if (first_bad < n) report_instability(first_bad);
@@ -364,14 +406,19 @@ void Simulation::report_instability(std::size_t i) const {
   throw InstabilityError(msg.str());
 }
 
-void Simulation::compute_forces() {
-  with_contact_kernel(law_, [&](const auto& kernel) { compute_contact_forces(kernel); });
+template <class Finish>
+void Simulation::compute_forces(Finish&& finish) {
+  with_contact_kernel(law_, [&](const auto& kernel) { compute_contact_forces(kernel, finish); });
 }
 
-template <class Kernel>
-void Simulation::compute_contact_forces(const Kernel& kernel) {
+void Simulation::compute_forces() {
+  compute_forces([n = particles_.size()](std::size_t, std::size_t) { return n; });
+}
+
+template <class Kernel, class Finish>
+void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   const std::size_t n = particles_.size();
-  const int nthreads = options_.threads;
+  const int members = team_->size();
   const auto& x = particles_.position_m;
   const auto& v = particles_.velocity_m_s;
   const auto& om = particles_.omega_rad_s;
@@ -384,25 +431,32 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
   const double dt = dt_;
   const double now = time_s_;
   const std::size_t nwalls = walls_.size();
-
-  double elastic = 0.0;
-  std::size_t contacts = 0;
-  // Reused every step: no allocation in the step loop.
-  thread_wall_loads_.resize(nthreads);
+  if (members > 1) {
+    for (int m = 0; m < members; ++m) {
+      thread_force_[m].resize(n);
+      thread_torque_[m].resize(n);
+    }
+  }
   for (auto& l : thread_wall_loads_) l.assign(nwalls, WallLoad{});
-  auto& loads = thread_wall_loads_;
 
-#pragma omp parallel num_threads(nthreads) reduction(+ : elastic, contacts)
-  {
-    const int tid = omp_get_thread_num();
-    std::vector<Vec3>& F = nthreads == 1 ? particles_.force_n : thread_force_[tid];
-    std::vector<Vec3>& T = nthreads == 1 ? particles_.torque_nm : thread_torque_[tid];
-    F.assign(n, Vec3{});
-    T.assign(n, Vec3{});
-    std::vector<WallLoad>& my_loads = loads[tid];
+  team_->run([&](int m) {
+    // Each member owns the particles [own_begin, own_end): their pairs with
+    // higher-indexed partners and their wall contacts. With one member the
+    // forces go straight into the particle arrays.
+    const std::size_t own_begin = owner_begin_[m], own_end = owner_begin_[m + 1];
+    std::vector<Vec3>& F = members == 1 ? particles_.force_n : thread_force_[m];
+    std::vector<Vec3>& T = members == 1 ? particles_.torque_nm : thread_torque_[m];
+    // Only the window of particles this member can write is cleared: its own
+    // and their partners (partners follow their owner in the list's order).
+    const std::size_t lo = members == 1 ? 0 : own_begin;
+    const std::size_t hi = members == 1 ? n : std::max(window_end_[m], own_end);
+    std::fill(F.begin() + static_cast<std::ptrdiff_t>(lo), F.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    std::fill(T.begin() + static_cast<std::ptrdiff_t>(lo), T.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    std::vector<WallLoad>& my_loads = thread_wall_loads_[m];
+    double elastic = 0.0;
+    std::size_t contacts = 0;
 
-#pragma omp for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = own_begin; i < own_end; ++i) {
       const Vec3 xi = x[i], vi = v[i], wi = om[i];
       const double ri = rad[i];
       const int mi = mat[i];
@@ -467,9 +521,12 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
       const Vec3 wall_velocity = wall.velocity_at(now);
       const Vec3 ref = wall.reference_point(now);
       const int mw = wall_material_[wi];
-      const std::size_t nc = cand.particle.size();
-#pragma omp for schedule(static) nowait
-      for (std::size_t c = 0; c < nc; ++c) {
+      // The candidates of this member's particles (candidates are ascending).
+      const auto c_begin = static_cast<std::size_t>(
+          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_begin) - cand.particle.begin());
+      const auto c_end = static_cast<std::size_t>(
+          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_end) - cand.particle.begin());
+      for (std::size_t c = c_begin; c < c_end; ++c) {
         const std::uint32_t i = cand.particle[c];
         WallContactPoint cp;
         bool on;
@@ -518,28 +575,44 @@ void Simulation::compute_contact_forces(const Kernel& kernel) {
         ++contacts;
       }
     }
-#pragma omp barrier
-    if (nthreads > 1) {
-      // Fixed summation order over threads: identical results for a given thread count.
-#pragma omp for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) {
-        Vec3 fs = thread_force_[0][i], ts = thread_torque_[0][i];
-        for (int t = 1; t < nthreads; ++t) {
-          fs += thread_force_[t][i];
-          ts += thread_torque_[t][i];
+    MemberScratch& scratch = member_scratch_[m];
+    scratch.elastic_j = elastic;
+    scratch.contacts = contacts;
+
+    // Every member's contributions are in; each member now finishes a slice of
+    // the particles: the sum over the members' buffers in member order (so a
+    // run repeats bit for bit at a given thread count), the body forces, and
+    // what the caller does with the new forces (the second kick).
+    team_->barrier();
+    const std::size_t begin = ThreadTeam::split(n, members, m), end = ThreadTeam::split(n, members, m + 1);
+    if (members > 1) {
+      for (std::size_t i = begin; i < end; ++i) {
+        Vec3 fs, ts;
+        for (int q = 0; q < members; ++q) {
+          if (i < owner_begin_[q] || i >= std::max(window_end_[q], owner_begin_[q + 1])) continue;
+          fs += thread_force_[q][i];
+          ts += thread_torque_[q][i];
         }
         particles_.force_n[i] = fs;
         particles_.torque_nm[i] = ts;
       }
     }
+    for (const auto& bf : body_forces_) bf->add(particles_, begin, end, particles_.force_n, particles_.torque_nm);
+    scratch.first_bad = finish(begin, end);
+  });
+
+  double elastic = 0.0;
+  std::size_t contacts = 0;
+  for (int m = 0; m < members; ++m) {
+    elastic += member_scratch_[m].elastic_j;
+    contacts += member_scratch_[m].contacts;
   }
-  for (const auto& bf : body_forces_) bf->add(particles_, 0, n, particles_.force_n, particles_.torque_nm);
   for (std::size_t w = 0; w < nwalls; ++w) {
     WallLoad total;
-    for (int t = 0; t < nthreads; ++t) {
-      total.force_n += loads[t][w].force_n;
-      total.torque_nm += loads[t][w].torque_nm;
-      total.contacts += loads[t][w].contacts;
+    for (int m = 0; m < members; ++m) {
+      total.force_n += thread_wall_loads_[m][w].force_n;
+      total.torque_nm += thread_wall_loads_[m][w].torque_nm;
+      total.contacts += thread_wall_loads_[m][w].contacts;
     }
     wall_loads_[w] = total;
   }

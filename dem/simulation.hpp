@@ -13,6 +13,7 @@
 #include "dem/neighbor_list.hpp"
 #include "dem/particles.hpp"
 #include "dem/random.hpp"
+#include "dem/thread_team.hpp"
 #include "dem/wall/wall.hpp"
 
 #include <cstdint>
@@ -123,9 +124,15 @@ class Simulation {
   void run_inserters();
   void rebuild_neighbors();
   void compute_forces();
+  // Computes the forces, then calls finish(begin, end) on consecutive slices of
+  // the particles, each on one member of the team, once their forces are
+  // final; finish returns the first unstable particle of its slice (or n).
+  template <class Finish>
+  void compute_forces(Finish&& finish);
+  void split_ownership();
   [[noreturn]] void report_instability(std::size_t particle) const;
-  template <class Kernel>
-  void compute_contact_forces(const Kernel& kernel);
+  template <class Kernel, class Finish>
+  void compute_contact_forces(const Kernel& kernel, Finish& finish);
 
   SimulationOptions options_;
   ContactLaw law_;
@@ -146,6 +153,20 @@ class Simulation {
   std::vector<Vec3> wall_offset_at_build_;
   std::vector<double> wall_change_times_;
 
+  std::unique_ptr<ThreadTeam> team_;
+  // What each member of the team reports from a parallel pass.
+  struct alignas(64) MemberScratch {
+    double max_move2 = 0.0;
+    double elastic_j = 0.0;
+    std::size_t contacts = 0;
+    std::size_t first_bad = 0;
+  };
+  std::vector<MemberScratch> member_scratch_;
+  // Member m owns particles [owner_begin_[m], owner_begin_[m+1]) in the force
+  // loop (split so that each owns about as many listed pairs) and writes
+  // forces on particles up to window_end_[m] (its partners). Set at each build.
+  std::vector<std::size_t> owner_begin_;
+  std::vector<std::size_t> window_end_;
   // Per-thread force buffers; summed in thread order so results repeat exactly.
   std::vector<std::vector<Vec3>> thread_force_;
   std::vector<std::vector<Vec3>> thread_torque_;
