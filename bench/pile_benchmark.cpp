@@ -183,9 +183,12 @@ int main(int argc, char** argv) {
     auto report = [&](const char* what, std::int64_t steps, double ps, double loop_s) {
       const double rate = ps / loop_s;
       std::printf("BENCH demcal mode %s threads %d N %zu steps %lld particle_steps %.6e loop_s %.3f "
-                  "PS/s %.4e PS/s/core %.4e maxRSS_MiB %.1f version %s\n",
+                  "PS/s %.4e PS/s/core %.4e maxRSS_MiB %.1f version %s contacts_per_particle %.3f "
+                  "listed_pairs_per_particle %.3f\n",
                   what, threads, sim->particles().size(), static_cast<long long>(steps), ps, loop_s, rate,
-                  rate / threads, peak_rss_mib(), DEMCAL_VERSION);
+                  rate / threads, peak_rss_mib(), DEMCAL_VERSION,
+                  static_cast<double>(sim->contact_count()) / static_cast<double>(sim->particles().size()),
+                  static_cast<double>(sim->neighbor_pair_count()) / static_cast<double>(sim->particles().size()));
       std::fflush(stdout);
     };
     // The pour phase is the whole pour-mode measurement; static mode reports it

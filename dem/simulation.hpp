@@ -109,7 +109,8 @@ class Simulation {
   const std::vector<Material>& materials() const { return materials_; }
   const ContactLaw& contact_law() const { return law_; }
   std::size_t neighbor_builds() const { return neighbors_.build_count(); }
-  std::size_t contact_count() const { return contacts_; }
+  std::size_t contact_count() const { return contacts_; }  // particle and wall contacts, last step
+  std::size_t neighbor_pair_count() const { return neighbors_.pair_count(); }
   EnergyBudget energy() const;
   double kinetic_energy_j() const;
   // Root-mean-square translational speed; the "at rest" criterion uses it.
