@@ -89,7 +89,7 @@ std::string HtmlReport::html() const {
   std::ostringstream s;
   s << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
     << html_escape(title_) << "</title>\n<style>\n"
-    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;"
+    << "body{font-family:Helvetica,Arial,sans-serif;max-width:1160px;margin:2em auto;padding:0 1em;"
        "color:#222;line-height:1.45}\n"
     << "h1{border-bottom:2px solid #345;padding-bottom:.2em}h2{margin-top:1.8em;color:#345}\n"
     << "table{border-collapse:collapse;margin:1em 0;font-size:.92em}"
@@ -98,6 +98,8 @@ std::string HtmlReport::html() const {
     << "figure{display:inline-block;margin:.8em .6em;vertical-align:top;max-width:100%}"
        "figure svg{max-width:100%;height:auto}"
        "figcaption{font-size:.9em;max-width:640px;color:#333}\n"
+    << ".headline{border:2px solid #345;background:#f6f9fc;padding:.3em 1em;margin:1em 0}"
+       ".headline td:first-child,.headline td:last-child{text-align:left}.headline caption{font-size:1.1em}\n"
     << ".warning{background:#fff3cd;border-left:4px solid #e0a800;padding:.5em .8em}"
        ".data{color:#666}code{background:#f3f3f3;padding:0 .2em}\n"
     << "</style>\n</head>\n<body>\n<h1>" << html_escape(title_) << "</h1>\n"
