@@ -126,7 +126,8 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       j["doe_csv"] = c.table.file;
       dem::write_file_atomically(file, j.dump(1) + "\n");
       outcome.files.push_back(file);
-      if (!f.scatter_check.within_scatter) outcome.warnings.push_back(f.scatter_check.message);
+      if (!f.scatter_check.within_scatter)
+        outcome.warnings.push_back(calibrate::humanize_identifiers(f.scatter_check.message));
       if (!o.quiet) {
         std::ostringstream s;
         using calibrate::human_number;

@@ -358,7 +358,7 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       std::vector<ContourLine> lines;
       const auto& cr = joint.posterior.credible_region;
       if (cr.available)
-        lines.push_back({"95 % credible region", grid_of(R, R.log_posterior), cr.log_posterior_level, "#ffffff", 1, 2.0});
+        lines.push_back({"95 % credible region", grid_of(R, R.log_posterior), cr.log_posterior_level, "#ff7f0e", 1, 2.0});
       std::vector<PointSet> pts{best};
       for (const auto& r : refs) {
         auto w = r;
@@ -369,7 +369,7 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       const auto fig = map_figure(dir, "posterior_map", grid_of(R, dens), lines, pts, mo);
       page.figure(fig.svg,
                   "The posterior (adaptive Metropolis, surrogate variance included) over the same plane, relative to "
-                  "its maximum; white: its 95 % highest-density region.",
+                  "its maximum; orange: its 95 % highest-density region.",
                   fig.data_files);
     }
     std::vector<std::string> text;
@@ -468,7 +468,7 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       if (n.rfind("One minimum", 0) == 0 && c.parts.size() > 1)
         n += " The 95 % region nevertheless has " + std::to_string(c.parts.size()) +
              " separate parts (see the headline): one minimum of the solver, not one island.";
-      html += "<li>" + html_escape(n) + "</li>";
+      html += "<li>" + html_escape(humanize_sentence(n)) + "</li>";
     }
     page.raw_html(html + "</ul>");
   };

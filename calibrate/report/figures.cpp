@@ -79,10 +79,10 @@ std::string palette(const std::string& name) {
 // own under the x-axis title, one entry a line: the same layout in every figure, so a
 // legend never covers data or an axis title (the HTML test checks it on the SVG).
 // Returns the settings; `total_height` is plot_height plus the legend band.
-constexpr int kKeyLine = 18;
+constexpr int kKeyLine = 22;
 
 std::string frame(int width, int plot_height, int key_entries, bool colorbox, int& total_height) {
-  const int band = key_entries > 0 ? 12 + kKeyLine * key_entries : 0;
+  const int band = key_entries > 0 ? 16 + kKeyLine * key_entries : 0;
   total_height = plot_height + band;
   const double W = width, H = total_height;
   std::ostringstream s;
@@ -182,8 +182,8 @@ RenderedFigure parity_figure(const fs::path& directory, const std::string& name,
   const std::string layout = frame(520, 470, 2, false, total_height);
   std::ostringstream s;
   s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
-    << "set title " << q(title) << "\nset xlabel " << q("DEM (observed) " + quantity_label)
-    << "\nset ylabel " << q("surrogate, left out (predicted) " + quantity_label) << "\n"
+    << "set title " << q(title) << "\nset xlabel " << q("DEM run " + quantity_label)
+    << "\nset ylabel " << q("surrogate without it " + quantity_label) << "\n"
     << "set xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [" << lo - pad << ":" << hi + pad
     << "]\n"
     << "plot x with lines lc rgb '#888888' dt 2 title 'y = x', " << q(name + ".dat")
@@ -252,7 +252,7 @@ RenderedFigure bar_figure(const fs::path& directory, const std::string& name,
     s << (k ? ", " : "") << q(name + ".dat") << " using ($1+" << off << "):" << 2 + 2 * k
       << " with boxes lc rgb " << q(colors[k % 4]) << " title " << q(series[k].name) << ", "
       << q(name + ".dat") << " using ($1+" << off << "):" << 2 + 2 * k << ":" << 3 + 2 * k
-      << " with yerrorbars pt -1 lc rgb '#222222' notitle";
+      << " with yerrorbars pt 7 ps 0 lc rgb '#222222' notitle";
   }
   s << "\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());

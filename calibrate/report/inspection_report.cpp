@@ -38,7 +38,7 @@ std::string model_text(const surrogate::FittedSurrogate& f) {
 // value there.
 struct DesignMarks {
   PointSet two_or_more{"design point, 2 or more runs", {}, {}, "points pt 6 ps 1.1 lc rgb '#ff3030' lw 1.5"};
-  PointSet one{"design point, 1 run", {}, {}, "points pt 8 ps 1.1 lc rgb '#ff3030' lw 1.5"};
+  PointSet one{"design point, 1 run", {}, {}, "points pt 12 ps 1.3 lc rgb '#ff3030' lw 1.5"};
   PointSet none{"design point where no run gave a value", {}, {}, "points pt 2 ps 1.3 lc rgb '#000000' lw 2"};
   std::vector<PointSet> sets() const {
     std::vector<PointSet> out;
@@ -155,8 +155,8 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
                     num(f.validation.q_squared, 4), num(f.validation.max_abs_standardized_residual, 3),
                     f.scatter_check.within_scatter ? "yes" : "NO"});
     if (!f.scatter_check.within_scatter) {
-      page.warning(f.scatter_check.message);
-      files.warnings.push_back(f.scatter_check.message);
+      page.warning(humanize_identifiers(f.scatter_check.message));
+      files.warnings.push_back(humanize_identifiers(f.scatter_check.message));
     }
   }
   page.table({"setup", "observable", "model", "runs", "points", "DEM scatter (sd)", "LOO RMSE", "Q²",
@@ -171,7 +171,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
     entry.erase("model");
     entry["setup"] = s.setup;
     page.heading(s.setup + ": " + label);
-    page.paragraph(f.scatter_check.message);
+    page.paragraph(humanize_identifiers(f.scatter_check.message));
 
     if (p == 2) {
       const int n = std::max(11, o.map_points_per_axis);
@@ -193,7 +193,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
       const DesignMarks marks = design_marks(s);
       const std::string xl = parameter_label(o.parameter_names[0]), yl = parameter_label(o.parameter_names[1]);
       const auto map = map_figure(dir, stem + "_map", mean, {}, marks.sets(),
-                                  {label + ", surrogate mean", xl, yl, label, 10, "viridis", 600, 500, true, 0, 0, {}});
+                                  {label + ", surrogate mean", xl, yl, label, 10, "viridis", 520, 470, true, 0, 0, {}});
       std::string cap = "Surrogate mean of " + label + " over the design box; circles: design points where two or more "
                         "runs gave a value, diamonds: one run";
       if (!marks.none.x.empty())
@@ -202,7 +202,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
                "there: do not read the map near them)";
       page.figure(map.svg, cap + ".", map.data_files);
       const auto sdmap = map_figure(dir, stem + "_sd", sd, {}, marks.sets(),
-                                    {label + ", surrogate sd", xl, yl, "sd of the mean (" + label + ")", 10, "viridis", 600, 500,
+                                    {label + ", surrogate sd", xl, yl, "sd of the mean (" + label + ")", 10, "viridis", 520, 470,
                                      true, 0, 0, {}});
       page.figure(sdmap.svg,
                   "The surrogate's own standard deviation: small at the design points, larger between and "
@@ -220,14 +220,14 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
       std_res.push_back(i < f.validation.standardized_residuals.size() ? f.validation.standardized_residuals(i)
                                                                         : std::nan(""));
     }
-    const auto parity = parity_figure(dir, stem + "_parity", obs, mu, sdv, label + ": leave-one-out", "");
+    const auto parity = parity_figure(dir, stem + "_parity", obs, mu, sdv, label + ": leave-one-out", label);
     page.figure(parity.svg,
                 "Leave-one-out parity: each design point predicted by the surrogate fitted without it (bars: "
                 "±2 sd of the prediction). Q² = " + num(f.validation.q_squared, 4) + ", RMSE = " +
                     num(f.validation.rmse, 3) + ".",
                 parity.data_files);
     const auto resid = residual_figure(dir, stem + "_residuals", mu, std_res, label + ": standardized residuals",
-                                       "leave-one-out prediction");
+                                       "leave-one-out prediction, " + label);
     page.figure(resid.svg,
                 "Standardized LOO residuals (observed − predicted) / sd: about 95 % should lie within ±2 when the "
                 "surrogate's variance is honest.",
@@ -264,12 +264,20 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
     // that spread flat) is extrapolation, and its variance would dominate the indices.
     if (p >= 1 && s.design_y.size() == s.design_x.rows()) {
       std::vector<double> lo(p, std::numeric_limits<double>::infinity()), hi(p, -std::numeric_limits<double>::infinity());
-      for (Eigen::Index i = 0; i < s.design_x.rows(); ++i)
-        if (std::isfinite(s.design_y(i)))
-          for (std::size_t j = 0; j < p; ++j) {
-            lo[j] = std::min(lo[j], s.design_x(i, static_cast<Eigen::Index>(j)));
-            hi[j] = std::max(hi[j], s.design_x(i, static_cast<Eigen::Index>(j)));
+      // A design point counts when at least half of its runs gave a value.
+      for (Eigen::Index i = 0; i < s.design_x.rows(); ++i) {
+        int runs = 0, values = 0;
+        for (Eigen::Index k = 0; k < s.design_x.rows(); ++k)
+          if (s.design_x.row(k) == s.design_x.row(i)) {
+            ++runs;
+            values += std::isfinite(s.design_y(k));
           }
+        if (2 * values < runs) continue;
+        for (std::size_t j = 0; j < p; ++j) {
+          lo[j] = std::min(lo[j], s.design_x(i, static_cast<Eigen::Index>(j)));
+          hi[j] = std::max(hi[j], s.design_x(i, static_cast<Eigen::Index>(j)));
+        }
+      }
       bool smaller = false, valid = true;
       for (std::size_t j = 0; j < p; ++j) {
         valid = valid && hi[j] > lo[j];
@@ -280,7 +288,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
         const auto b2 = sobol_figure(dir, stem + "_sobol_measured", *f.model, o.parameter_names, lo, hi,
                                      label + ": Sobol indices where runs gave a value", o.sobol_base_samples, sub);
         page.figure(b2.svg,
-                    "The same over the part of the box where runs gave a value (" + box_text(o.parameter_names, lo, hi) +
+                    "The same over the part of the box where most runs gave a value (" + box_text(o.parameter_names, lo, hi) +
                         "): outside it the surrogate extrapolates, and that strip's variance would dominate the "
                         "indices above. The calibration report gives them over the 95 % region too.",
                     b2.data_files);

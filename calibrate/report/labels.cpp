@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <regex>
 
 namespace demcal::calibrate {
 namespace {
@@ -60,6 +61,28 @@ std::string parameter_label(const std::string& parameter) {
   if (parameter == "restitution") return "restitution e";
   if (parameter == "surface_energy") return "surface energy (J/m²)";
   return parameter;
+}
+
+std::string humanize_identifiers(std::string text) {
+  for (const auto& o : kObservables) {
+    const std::string key = o.key, label = observable_label(o.key);
+    for (const std::string& form : {"'" + key + "'", key}) {
+      for (auto k = text.find(form); k != std::string::npos; k = text.find(form, k + label.size()))
+        text.replace(k, form.size(), label);
+    }
+  }
+  return text;
+}
+
+std::string humanize_sentence(std::string text) {
+  text = humanize_identifiers(std::move(text));
+  const auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (auto k = text.find(from); k != std::string::npos; k = text.find(from, k + to.size())) text.replace(k, from.size(), to);
+  };
+  replace_all("chi^2", "chi²");
+  replace_all("+/-", "±");
+  static const std::regex tiny(R"(-?\b[0-9]+(\.[0-9]+)?e-[1-9][0-9]+\b)");
+  return std::regex_replace(text, tiny, "0");
 }
 
 std::string human_number(double v, int digits, double zero_below) {

@@ -19,6 +19,14 @@ std::string observable_unit_suffix(const std::string& observable);
 // "mu_r" -> "rolling friction mu_r"; an unknown name as it is.
 std::string parameter_label(const std::string& parameter);
 
+// Every known observable identifier in `text` written as its label, quoted or not:
+// "surrogate for 'angle_of_repose_deg'" -> "surrogate for angle of repose (°)".
+std::string humanize_identifiers(std::string text);
+
+// A sentence of the solver's for a reader: identifiers as labels, "chi^2" as "chi²",
+// "+/-" as "±", round-off numbers (1.39e-27: an exponent of -10 or below) as 0.
+std::string humanize_sentence(std::string text);
+
 // `digits` significant digits ("%.*g"), no trailing zeros; |v| < zero_below -> "0";
 // not finite -> "—".
 std::string human_number(double v, int digits = 3, double zero_below = 1e-12);

@@ -98,6 +98,15 @@ std::vector<std::string> svg_layout_problems(const std::string& svg) {
   std::vector<std::string> problems;
   if (svg.find("<svg") == std::string::npos) return {"no <svg> element"};
   const auto boxes = svg_text_boxes(svg);
+  // Text cut off at the figure's edge.
+  static const std::regex view_box(R"re(viewBox="([-0-9.]+) ([-0-9.]+) ([-0-9.]+) ([-0-9.]+)")re");
+  std::smatch vb;
+  if (std::regex_search(svg, vb, view_box)) {
+    const double w = std::stod(vb[3]), h = std::stod(vb[4]);
+    for (const auto& b : boxes)
+      if (b.x0 < -1 || b.y0 < -1 || b.x1 > w + 1 || b.y1 > h + 1)
+        problems.push_back("text \"" + b.text + "\" runs off the figure");
+  }
   for (std::size_t i = 0; i < boxes.size(); ++i)
     for (std::size_t j = i + 1; j < boxes.size(); ++j)
       if (overlap(boxes[i], boxes[j]))
