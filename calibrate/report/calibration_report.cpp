@@ -502,7 +502,7 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       if (bestm)
         series.push_back(marker("best point, " + jl + " (" + num(bestm->theta(static_cast<Eigen::Index>(i))) + ")",
                                 bestm->theta(static_cast<Eigen::Index>(i)), top * 1.05,
-                                "lines lw 2 dt 1 lc rgb '#a50f15'"));
+                                "lines lw 2.5 dt 4 lc rgb '#e6550d'"));
       for (const auto& ref : o.references)
         if (i < ref.theta.size())
           series.push_back(marker(ref.label, ref.theta[i], top * 1.05, "lines lw 2 dt 2 lc rgb '#000000'"));
@@ -533,8 +533,8 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
                                      "MCMC trace of " + joint.parameters[i].name + ", " + jl, "sample (after burn-in)",
                                      parameter_label(joint.parameters[i].name));
         page.figure(fig.svg,
-                    "Trace of each chain (every " + std::to_string(stride) +
-                        " sample shown): well-mixed chains overlap and look like noise around one level.",
+                    "Trace of each chain (" + (stride == 1 ? std::string("every sample") : "every " + std::to_string(stride) + "th sample") +
+                        " shown): well-mixed chains overlap and look like noise around one level.",
                     fig.data_files);
       }
     }
