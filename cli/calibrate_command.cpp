@@ -40,6 +40,15 @@ std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& para
   return s.str();
 }
 
+// The closing summary: the report's headline box as text.
+void print_headline(std::ostream& log, const std::string& study, const calibrate::Headline& head) {
+  std::vector<std::vector<std::string>> rows{head.header};
+  for (const auto& r : head.rows) rows.push_back(r);
+  log << "\n" << study << ": the calibrated values\n" << aligned_table(rows);
+  for (const auto& s : head.sentences) log << "  - " << s << "\n";
+  log << "  (the solver's notes, the figures and the tables: in the calibration report)\n\n";
+}
+
 }  // namespace
 
 CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::ostream& log) {
@@ -133,13 +142,7 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
                                                          joint, ro);
   // The closing summary: the report's headline, made by the same code.
   if (!o.quiet) {
-    const auto head = calibrate::calibration_headline(alone ? &*alone : nullptr, joint, ro);
-    std::vector<std::vector<std::string>> rows{head.header};
-    for (const auto& r : head.rows) rows.push_back(r);
-    log << "\n" << study.name << ": the calibrated values\n" << aligned_table(rows);
-    for (const auto& s : head.sentences) log << "  - " << s << "\n";
-    log << "  (" << joint.notes.size() + (alone ? alone->notes.size() : 0)
-        << " notes of the solver, the figures and the tables: in the report)\n\n";
+    print_headline(log, study.name, calibrate::calibration_headline(alone ? &*alone : nullptr, joint, ro));
   }
   out << "calibration report: " << files.html.string() << "\n";
   return {files.html, files.json};
@@ -221,6 +224,20 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
     stages.done("calibrate", cal_digest);
   } else {
     log << "calibrate: up to date (surrogates, [calibration] and recordings unchanged)\n";
+    // The main result all the same: the headline the report's JSON keeps.
+    try {
+      std::ifstream in(report.parent_path() / "calibration.json");
+      const auto j = nlohmann::json::parse(in);
+      if (!o.doe.quiet && j.contains("headline")) {
+        calibrate::Headline head;
+        head.header = j["headline"]["header"].get<std::vector<std::string>>();
+        head.rows = j["headline"]["rows"].get<std::vector<std::vector<std::string>>>();
+        head.sentences = j["headline"]["sentences"].get<std::vector<std::string>>();
+        print_headline(log, study.name, head);
+      }
+    } catch (const std::exception&) {
+      // An older report without a headline: its path is enough.
+    }
     out << "calibration report: " << report.string() << "\n";
   }
   return report;

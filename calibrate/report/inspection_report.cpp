@@ -34,16 +34,14 @@ std::string model_text(const surrogate::FittedSurrogate& f) {
   return d;
 }
 
-// The design points of one surrogate's map: distinct inputs with how many runs gave a
-// value there.
+// The design points of one surrogate's map, one marker per number of runs that gave a
+// value there (the legend says how many), crosses where none did.
 struct DesignMarks {
-  PointSet two_or_more{"design point, 2 or more runs", {}, {}, "points pt 6 ps 1.1 lc rgb '#ff3030' lw 1.5"};
-  PointSet one{"design point, 1 run", {}, {}, "points pt 12 ps 1.3 lc rgb '#ff3030' lw 1.5"};
+  std::vector<PointSet> with_value;  // most runs first
   PointSet none{"design point where no run gave a value", {}, {}, "points pt 2 ps 1.3 lc rgb '#000000' lw 2"};
   std::vector<PointSet> sets() const {
-    std::vector<PointSet> out;
-    for (const auto* s : {&two_or_more, &one, &none})
-      if (!s->x.empty()) out.push_back(*s);
+    std::vector<PointSet> out = with_value;
+    if (!none.x.empty()) out.push_back(none);
     return out;
   }
 };
@@ -57,9 +55,22 @@ DesignMarks design_marks(const InspectedSurrogate& s) {
     if (it == points.end()) points.push_back({xy, value ? 1 : 0});
     else it->second += value;
   }
+  std::vector<int> counts;
+  for (const auto& [xy, n] : points)
+    if (n > 0 && std::find(counts.begin(), counts.end(), n) == counts.end()) counts.push_back(n);
+  std::sort(counts.rbegin(), counts.rend());
+  static const int marker[] = {6, 12, 8, 4, 10};
   DesignMarks m;
+  for (std::size_t k = 0; k < counts.size(); ++k)
+    m.with_value.push_back({"design point, " + std::to_string(counts[k]) + (counts[k] == 1 ? " run" : " runs") +
+                                " with a value",
+                            {}, {},
+                            "points pt " + std::to_string(marker[std::min<std::size_t>(k, 4)]) +
+                                " ps 1.2 lc rgb '#ff3030' lw 1.5"});
   for (const auto& [xy, n] : points) {
-    PointSet& set = n >= 2 ? m.two_or_more : n == 1 ? m.one : m.none;
+    PointSet& set = n == 0 ? m.none
+                           : m.with_value[static_cast<std::size_t>(std::find(counts.begin(), counts.end(), n) -
+                                                                    counts.begin())];
     set.x.push_back(xy.first);
     set.y.push_back(xy.second);
   }
@@ -194,8 +205,8 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
       const std::string xl = parameter_label(o.parameter_names[0]), yl = parameter_label(o.parameter_names[1]);
       const auto map = map_figure(dir, stem + "_map", mean, {}, marks.sets(),
                                   {label + ", surrogate mean", xl, yl, label, 10, "viridis", 520, 470, true, 0, 0, {}});
-      std::string cap = "Surrogate mean of " + label + " over the design box; circles: design points where two or more "
-                        "runs gave a value, diamonds: one run";
+      std::string cap = "Surrogate mean of " + label + " over the design box; the markers say how many runs gave a "
+                        "value at each design point";
       if (!marks.none.x.empty())
         cap += ", crosses: " + std::to_string(marks.none.x.size()) + " design point" +
                (marks.none.x.size() == 1 ? "" : "s") + " where no run gave a value (the surrogate extrapolates "
