@@ -70,7 +70,8 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
   for (const auto& t : all)
     if (t.observable == alone_name) single.push_back(t);
   if (!alone_name.empty() && single.size() < all.size() && !single.empty()) {
-    log << "calibrating " << study.name << " on " << alone_name << " alone, for the comparison ...\n";
+    log << "calibrating " << study.name << " on the " << calibrate::observable_name(alone_name)
+        << " alone, for the comparison ...\n";
     alone = calibrate::calibrate(params, single, co);
   } else if (cc.alone && !cc.alone->empty() && single.empty()) {
     throw ConfigError(study.file + ": [calibration] alone = \"" + alone_name + "\" is not among the recordings");

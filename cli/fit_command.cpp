@@ -131,7 +131,7 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       if (!o.quiet) {
         std::ostringstream s;
         using calibrate::human_number;
-        s << apparatus << " " << calibrate::observable_label(name) << ": " << f.model->description() << "; "
+        s << apparatus << " " << calibrate::observable_label(name) << ": " << calibrate::surrogate_description(f) << "; "
           << f.runs << " runs at " << f.scatter.points << " points; leave-one-out RMSE "
           << human_number(f.validation.rmse) << ", Q² " << human_number(f.validation.q_squared)
           << "; DEM scatter sd " << human_number(f.scatter.sd);

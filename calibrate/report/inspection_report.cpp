@@ -25,15 +25,6 @@ std::string num(double v, int precision = 4) { return format_number(v, precision
 
 std::string label_of(const std::string& observable) { return observable_label(observable); }
 
-// The model in words; "nugget fixed" is how the GP stores per-point noise variances,
-// which the "replicates" setting takes from the replicate scatter.
-std::string model_text(const surrogate::FittedSurrogate& f) {
-  std::string d = f.model->description();
-  const auto k = d.find("nugget fixed");
-  if (k != std::string::npos && f.spec.nugget == "replicates") d.replace(k, 12, "nugget from replicates");
-  return d;
-}
-
 // The design points of one surrogate's map, one marker per number of runs that gave a
 // value there (the legend says how many), crosses where none did.
 struct DesignMarks {
@@ -128,7 +119,7 @@ void coefficient_section(HtmlReport& page, nlohmann::json& out, const InspectedS
     const Eigen::VectorXd beta = gp->mean_coefficients();
     for (Eigen::Index i = 0; i < beta.size(); ++i) rows.push_back({"mean coefficient " + std::to_string(i), num(beta(i))});
     page.table({"hyperparameter", "value"}, rows,
-               "Gaussian process of " + label_of(s.fit.output_name) + " (" + model_text(s.fit) + ")");
+               "Gaussian process of " + label_of(s.fit.output_name) + " (" + surrogate_description(s.fit) + ")");
     out["hyperparameters"] = {{"length_scales", h.length_scales},
                               {"signal_variance", h.signal_variance},
                               {"nugget_variance", h.nugget_variance},
@@ -137,6 +128,13 @@ void coefficient_section(HtmlReport& page, nlohmann::json& out, const InspectedS
 }
 
 }  // namespace
+
+std::string surrogate_description(const surrogate::FittedSurrogate& f) {
+  std::string d = f.model->description();
+  const auto k = d.find("nugget fixed");
+  if (k != std::string::npos && f.spec.nugget == "replicates") d.replace(k, 12, "nugget from replicates");
+  return d;
+}
 
 InspectionReportFiles write_inspection_report(const fs::path& dir, const std::vector<InspectedSurrogate>& surrogates,
                                               const InspectionReportOptions& o) {
@@ -161,7 +159,7 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
   std::vector<std::vector<std::string>> rows;
   for (const auto& s : surrogates) {
     const auto& f = s.fit;
-    rows.push_back({s.setup, label_of(f.output_name), model_text(f), std::to_string(f.runs),
+    rows.push_back({s.setup, label_of(f.output_name), surrogate_description(f), std::to_string(f.runs),
                     std::to_string(f.scatter.points), num(f.scatter.sd, 3), num(f.validation.rmse, 3),
                     num(f.validation.q_squared, 4), num(f.validation.max_abs_standardized_residual, 3),
                     f.scatter_check.within_scatter ? "yes" : "NO"});

@@ -46,6 +46,10 @@ struct InspectionReportFiles {
   std::vector<std::string> warnings;
 };
 
+// The model in words, as the report and the console write it ("..., nugget from
+// replicates, 22 points" where the model stores per-point nuggets taken from replicates).
+std::string surrogate_description(const surrogate::FittedSurrogate& fit);
+
 // Writes the report into `directory` (created). Throws std::runtime_error when
 // gnuplot fails, std::invalid_argument on inconsistent inputs.
 InspectionReportFiles write_inspection_report(const std::filesystem::path& directory,
