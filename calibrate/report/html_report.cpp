@@ -99,7 +99,7 @@ std::string HtmlReport::html() const {
        "figure svg{width:100%;height:auto}"
        "figcaption{font-size:.9em;color:#333}\n"
     << ".headline{border:2px solid #345;background:#f6f9fc;padding:.3em 1em;margin:1em 0}"
-       ".headline td:first-child,.headline td:last-child{text-align:left}.headline caption{font-size:1.1em}\n"
+       ".headline td{text-align:left}.headline caption{font-size:1.1em}\n"
     << ".warning{background:#fff3cd;border-left:4px solid #e0a800;padding:.5em .8em}"
        ".data{color:#666}code{background:#f3f3f3;padding:0 .2em}\n"
     << "</style>\n</head>\n<body>\n<h1>" << html_escape(title_) << "</h1>\n"
