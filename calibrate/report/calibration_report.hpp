@@ -1,11 +1,14 @@
 #pragma once
-// The calibration report: one HTML page with the key figure of the study — the
-// (mu_r, mu_s) plane with the measured-AoR and measured-time iso-lines of the
-// surrogates, the 95 % region of the calibration on AoR alone and of the one on
-// AoR and time, and their best points — stated in words beside it (each
-// region's area, their ratio, which parameter each identifies), then the
-// minima with chi-square and residuals, the Gauss-Newton uncertainty, and the
-// MCMC marginals. The CSV/JSON behind every figure is written beside it.
+// The calibration report: one HTML page that opens with a headline box — per parameter
+// the calibrated value, its 95 % intervals from the likelihood-ratio region and the
+// posterior, the Gauss-Newton +- (marked local), whether AoR + time and AoR alone
+// identify it; then the area ratio, the parts of each region (islands between design
+// points flagged), the reference point and the fit, in words. Then the key figure as
+// filled panels — AoR alone | AoR + time | the posterior — with iso-lines labelled with
+// their units, the surrogates' uncertainty and Sobol indices over the 95 % region, the
+// solver's notes, the minima with chi-square and residuals, and the MCMC marginals
+// (best point and reference marked) and traces. The CSV/JSON behind every figure is
+// written beside it; docs/guide.md explains each section.
 
 #include "calibrate/calibration.hpp"
 #include "calibrate/region_components.hpp"
