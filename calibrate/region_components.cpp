@@ -12,8 +12,9 @@
 
 namespace demcal::calibrate {
 
-RegionComponents region_components(const std::vector<std::vector<double>>& axes, const std::vector<bool>& inside,
-                                   const Eigen::VectorXd& best, const Eigen::MatrixXd& design_points) {
+RegionComponents region_components(const std::vector<std::vector<double>>& axes,
+                                   const std::vector<bool>& inside, const Eigen::VectorXd& best,
+                                   const Eigen::MatrixXd& design_points) {
   const std::size_t p = axes.size();
   if (p == 0) throw std::invalid_argument("region_components: no axes");
   std::size_t n = 1;
@@ -23,13 +24,16 @@ RegionComponents region_components(const std::vector<std::vector<double>>& axes,
     stride[a] = n;
     n *= axes[a].size();
   }
-  if (inside.size() != n) throw std::invalid_argument("region_components: inside has not one entry per node");
+  if (inside.size() != n)
+    throw std::invalid_argument("region_components: inside has not one entry per node");
   if (best.size() != 0 && static_cast<std::size_t>(best.size()) != p)
     throw std::invalid_argument("region_components: the best point has not one value per axis");
   if (design_points.rows() > 0 && static_cast<std::size_t>(design_points.cols()) != p)
     throw std::invalid_argument("region_components: design points have not one column per axis");
   const std::vector<double> measure = grid_cell_measures(axes);
-  const auto coordinate = [&](std::size_t node, std::size_t a) { return (node / stride[a]) % axes[a].size(); };
+  const auto coordinate = [&](std::size_t node, std::size_t a) {
+    return (node / stride[a]) % axes[a].size();
+  };
 
   // Flood fill over face neighbours.
   std::vector<int> label(n, -1);
@@ -72,7 +76,8 @@ RegionComponents region_components(const std::vector<std::vector<double>>& axes,
       const auto& ax = axes[a];
       std::size_t k = 0;
       for (std::size_t i = 1; i < ax.size(); ++i)
-        if (std::abs(ax[i] - best(static_cast<Eigen::Index>(a))) < std::abs(ax[k] - best(static_cast<Eigen::Index>(a))))
+        if (std::abs(ax[i] - best(static_cast<Eigen::Index>(a))) <
+            std::abs(ax[k] - best(static_cast<Eigen::Index>(a))))
           k = i;
       node += k * stride[a];
     }
@@ -83,7 +88,9 @@ RegionComponents region_components(const std::vector<std::vector<double>>& axes,
     for (Eigen::Index r = 0; r < design_points.rows(); ++r) {
       bool in = true;
       for (std::size_t a = 0; a < p && in; ++a) {
-        const double half = axes[a].size() > 1 ? 0.5 * (axes[a].back() - axes[a].front()) / (axes[a].size() - 1) : 0.0;
+        const double half = axes[a].size() > 1
+                                ? 0.5 * (axes[a].back() - axes[a].front()) / (axes[a].size() - 1)
+                                : 0.0;
         const double v = design_points(r, static_cast<Eigen::Index>(a));
         in = v >= c.lower[a] - half && v <= c.upper[a] + half;
       }
@@ -131,7 +138,8 @@ std::string describe_components(const RegionComponents& c, const std::vector<std
     s << ", area " << fmt(part.area, 2) << ")";
     if (part.holds_best) s << " holds the best point";
     if (part.between_design_points)
-      s << " holds no design point: only the surrogate's uncertainty between design points admits it — add design "
+      s << " holds no design point: only the surrogate's uncertainty between design points admits "
+           "it — add design "
            "points there to confirm or remove it";
   }
   return s.str();

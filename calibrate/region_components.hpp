@@ -17,10 +17,10 @@ namespace demcal::calibrate {
 
 struct RegionComponent {
   std::size_t nodes = 0;
-  double area = 0.0;                // parameter units, as LikelihoodRegion::area
+  double area = 0.0;                 // parameter units, as LikelihoodRegion::area
   std::vector<double> lower, upper;  // per parameter: extent of the part's nodes
-  bool holds_best = false;          // the node nearest the best point is in it
-  std::size_t design_points = 0;    // design points inside its bounding box (+ half a cell)
+  bool holds_best = false;           // the node nearest the best point is in it
+  std::size_t design_points = 0;     // design points inside its bounding box (+ half a cell)
   // Not the best point's part and no design point in it: the surrogate's variance
   // between design points, not a DEM run, allows it.
   bool between_design_points = false;
@@ -34,7 +34,8 @@ struct RegionComponents {
 // `axes` and `inside` in LikelihoodRegion's layout (first axis fastest). `best`: the best
 // point (may be empty: no part holds it). `design_points`: rows of inputs (may have 0 rows).
 // Throws std::invalid_argument when sizes disagree.
-RegionComponents region_components(const std::vector<std::vector<double>>& axes, const std::vector<bool>& inside,
+RegionComponents region_components(const std::vector<std::vector<double>>& axes,
+                                   const std::vector<bool>& inside,
                                    const Eigen::VectorXd& best = Eigen::VectorXd(),
                                    const Eigen::MatrixXd& design_points = Eigen::MatrixXd());
 

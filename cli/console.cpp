@@ -24,7 +24,8 @@ void warn_once(std::ostream& log, const std::string& text) {
   log << "warning: " << text << "\n";
 }
 
-std::string aligned_table(const std::vector<std::vector<std::string>>& rows, const std::string& indent) {
+std::string aligned_table(const std::vector<std::vector<std::string>>& rows,
+                          const std::string& indent) {
   std::vector<std::size_t> width;
   for (const auto& r : rows) {
     if (width.size() < r.size()) width.resize(r.size(), 0);

@@ -14,6 +14,7 @@ void warn_once(std::ostream& log, const std::string& text);
 
 // Rows (the first is the header) padded to their columns' widths, two spaces apart,
 // each line starting with `indent`.
-std::string aligned_table(const std::vector<std::vector<std::string>>& rows, const std::string& indent = "  ");
+std::string aligned_table(const std::vector<std::vector<std::string>>& rows,
+                          const std::string& indent = "  ");
 
 }  // namespace demcal::cli

@@ -46,7 +46,8 @@ GridField grid_of(const LikelihoodRegion& region, const std::vector<double>& val
 RegionComponents components_of(const CalibrationResult& r, const Eigen::MatrixXd& design) {
   if (!r.region.available) return {};
   const Eigen::VectorXd best = r.minima.empty() ? Eigen::VectorXd() : r.minima.front().theta;
-  const Eigen::MatrixXd d = design.cols() == static_cast<Eigen::Index>(r.parameters.size()) ? design : Eigen::MatrixXd();
+  const Eigen::MatrixXd d =
+      design.cols() == static_cast<Eigen::Index>(r.parameters.size()) ? design : Eigen::MatrixXd();
   return region_components(r.region.axes, r.region.inside, best, d);
 }
 
@@ -65,7 +66,8 @@ std::string identified_text(const CalibrationResult& r, std::size_t i) {
   const bool id = i < r.identified.size() ? r.identified[i] : e.identified();
   const double share = (e.upper - e.lower) / (b.upper - b.lower);
   if (id) {
-    if (share > 0.5) return "yes, loosely: its 95 % region spans " + num(100 * share, 2) + " % of the range";
+    if (share > 0.5)
+      return "yes, loosely: its 95 % region spans " + num(100 * share, 2) + " % of the range";
     return "yes";
   }
   if (e.touches_lower_bound && e.touches_upper_bound) return "no: its region reaches both bounds";
@@ -77,7 +79,8 @@ std::string identified_text(const CalibrationResult& r, std::size_t i) {
 std::string minima_caption(const CalibrationResult& r, const std::string& label) {
   std::string c = label + ": distinct minima (Ceres, multi-start)";
   if (!r.minima.empty() && r.minima.front().rank_deficient)
-    c += ". Rank deficient: these points lie along a valley of (nearly) equal fit; none of them is the answer — "
+    c += ". Rank deficient: these points lie along a valley of (nearly) equal fit; none of them is "
+         "the answer — "
          "read the region instead";
   return c;
 }
@@ -112,13 +115,14 @@ void minima_table(HtmlReport& page, const CalibrationResult& r, const std::strin
     std::vector<std::vector<std::string>> res;
     for (std::size_t i = 0; i < r.targets.size(); ++i) {
       const auto& t = r.targets[i];
-      res.push_back({t.setup, observable_label(t.observable), num(t.measured, 4), num(t.sigma_measured, 3),
-                     num(t.sigma_dem, 3), i < best.predicted.size() ? num(best.predicted[i], 4) : "—",
+      res.push_back({t.setup, observable_label(t.observable), num(t.measured, 4),
+                     num(t.sigma_measured, 3), num(t.sigma_dem, 3),
+                     i < best.predicted.size() ? num(best.predicted[i], 4) : "—",
                      i < best.sigma_total.size() ? num(best.sigma_total[i], 3) : "—",
                      i < best.residuals.size() ? human_number(best.residuals[i], 3, 1e-9) : "—"});
     }
-    page.table({"setup", "observable", "measured", "sigma measured", "sigma DEM", "predicted at best", "sigma total",
-                "standardized residual"},
+    page.table({"setup", "observable", "measured", "sigma measured", "sigma DEM",
+                "predicted at best", "sigma total", "standardized residual"},
                res, label + ": residuals at the best point; " + fit_text(r));
   }
 }
@@ -135,20 +139,23 @@ std::string fit_text(const CalibrationResult& r) {
   const std::string chi = "chi² = " + human_number(r.fit.chi_square, 3, 1e-9);
   if (dof < 1) {
     const std::size_t n = r.targets.size(), p = r.parameters.size();
-    return chi + "; " + std::to_string(n) + " recording" + (n == 1 ? "" : "s") + " for " + std::to_string(p) +
-           " parameter" + (p == 1 ? "" : "s") + ": no degrees of freedom left, so the fit can match any data and "
+    return chi + "; " + std::to_string(n) + " recording" + (n == 1 ? "" : "s") + " for " +
+           std::to_string(p) + " parameter" + (p == 1 ? "" : "s") +
+           ": no degrees of freedom left, so the fit can match any data and "
            "tests nothing";
   }
   return chi + " on " + std::to_string(dof) + " degree" + (dof == 1 ? "" : "s") + " of freedom" +
          (std::isfinite(r.fit.p_value) ? ", p = " + num(r.fit.p_value, 2) : "");
 }
 
-std::vector<std::string> identification_statements(const CalibrationResult& r, const std::string& label) {
+std::vector<std::string> identification_statements(const CalibrationResult& r,
+                                                   const std::string& label) {
   std::vector<std::string> out;
   if (!r.region.available) return out;
   for (std::size_t i = 0; i < r.region.extent.size(); ++i)
-    out.push_back(label + ": " + r.region.extent[i].name + " identified? " + identified_text(r, i) + " (95 % region " +
-                  num(r.region.extent[i].lower) + " to " + num(r.region.extent[i].upper) + ")");
+    out.push_back(label + ": " + r.region.extent[i].name + " identified? " + identified_text(r, i) +
+                  " (95 % region " + num(r.region.extent[i].lower) + " to " +
+                  num(r.region.extent[i].upper) + ")");
   return out;
 }
 
@@ -157,8 +164,12 @@ Headline calibration_headline(const CalibrationResult* alone, const CalibrationR
   Headline h;
   const std::string jl = observables_of(joint);
   const std::string al = alone ? observables_of(*alone) : "";
-  h.header = {"parameter", "calibrated value (best fit, " + jl + ")", "95 % region (likelihood ratio)",
-              "95 % posterior interval", "Gauss–Newton ±95 % (local)", "identified by " + jl + "?"};
+  h.header = {"parameter",
+              "calibrated value (best fit, " + jl + ")",
+              "95 % region (likelihood ratio)",
+              "95 % posterior interval",
+              "Gauss–Newton ±95 % (local)",
+              "identified by " + jl + "?"};
   if (alone) h.header.push_back("identified by " + al + " alone?");
   for (std::size_t i = 0; i < joint.parameters.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
@@ -166,12 +177,15 @@ Headline calibration_headline(const CalibrationResult* alone, const CalibrationR
     const Minimum* best = joint.minima.empty() ? nullptr : &joint.minima.front();
     row.push_back(best ? num(best->theta(k)) : "—");
     row.push_back(joint.region.available && i < joint.region.extent.size()
-                      ? num(joint.region.extent[i].lower) + " – " + num(joint.region.extent[i].upper)
+                      ? num(joint.region.extent[i].lower) + " – " +
+                            num(joint.region.extent[i].upper)
                       : "—");
     row.push_back(joint.posterior.available && i < joint.posterior.marginals.size()
-                      ? num(joint.posterior.marginals[i].lower) + " – " + num(joint.posterior.marginals[i].upper)
+                      ? num(joint.posterior.marginals[i].lower) + " – " +
+                            num(joint.posterior.marginals[i].upper)
                       : "—");
-    row.push_back(best && i < best->standard_errors.size() && std::isfinite(best->standard_errors[i])
+    row.push_back(best && i < best->standard_errors.size() &&
+                          std::isfinite(best->standard_errors[i])
                       ? num(best->theta(k)) + " ± " + num(1.96 * best->standard_errors[i], 2)
                       : "not available (rank deficient)");
     row.push_back(identified_text(joint, i));
@@ -179,19 +193,22 @@ Headline calibration_headline(const CalibrationResult* alone, const CalibrationR
     h.rows.push_back(row);
   }
   h.sentences.push_back(
-      "Which interval to believe: the likelihood-ratio region and the posterior interval (they account for the "
-      "whole plane and the surrogates' uncertainty); the Gauss–Newton ± describes only the neighbourhood of the "
+      "Which interval to believe: the likelihood-ratio region and the posterior interval (they "
+      "account for the "
+      "whole plane and the surrogates' uncertainty); the Gauss–Newton ± describes only the "
+      "neighbourhood of the "
       "best point and is too narrow when the region is not an ellipse.");
   if (alone && alone->region.available && joint.region.available) {
     const auto cmp = compare_regions(*alone, joint);
-    std::string s = "Adding the " + jl.substr(std::min(jl.size(), al.size() + 3)) + " shrinks the 95 % region " +
-                    num(cmp.ratio) + "-fold: area " + num(cmp.area_a) + " with " + al + " alone, " + num(cmp.area_b) +
-                    " with " + jl + " (in " + joint.parameters[0].name;
+    std::string s = "Adding the " + jl.substr(std::min(jl.size(), al.size() + 3)) +
+                    " shrinks the 95 % region " + num(cmp.ratio) + "-fold: area " +
+                    num(cmp.area_a) + " with " + al + " alone, " + num(cmp.area_b) + " with " + jl +
+                    " (in " + joint.parameters[0].name;
     for (std::size_t i = 1; i < joint.parameters.size(); ++i) s += " × " + joint.parameters[i].name;
     s += " units)";
     if (std::isfinite(cmp.credible_ratio) && cmp.credible_ratio > 0)
-      s += "; posterior 95 % credible areas " + num(cmp.credible_area_a) + " and " + num(cmp.credible_area_b) +
-           " (ratio " + num(cmp.credible_ratio) + ")";
+      s += "; posterior 95 % credible areas " + num(cmp.credible_area_a) + " and " +
+           num(cmp.credible_area_b) + " (ratio " + num(cmp.credible_ratio) + ")";
     h.sentences.push_back(s + ".");
   }
   const auto names = parameter_names(joint);
@@ -208,8 +225,8 @@ Headline calibration_headline(const CalibrationResult* alone, const CalibrationR
     std::string t = ref.label + ": " + (ref.inside_joint ? "inside" : "OUTSIDE") + " the " + jl +
                     " 95 % region (chi² − chi²_min = " + num(ref.delta_chi_square_joint) + ")";
     if (std::isfinite(ref.delta_chi_square_alone))
-      t += ", " + std::string(ref.inside_alone ? "inside" : "OUTSIDE") + " the " + al + "-alone region (" +
-           num(ref.delta_chi_square_alone) + ")";
+      t += ", " + std::string(ref.inside_alone ? "inside" : "OUTSIDE") + " the " + al +
+           "-alone region (" + num(ref.delta_chi_square_alone) + ")";
     h.sentences.push_back(t + ".");
   }
   h.sentences.push_back("Fit (" + jl + "): " + fit_text(joint) + ".");
@@ -241,15 +258,20 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     for (const auto& t : head.sentences) html += "<li>" + html_escape(t) + "</li>";
     page.raw_html(html + "</ul></div>");
   }
-  summary["headline"] = {{"header", head.header}, {"rows", head.rows}, {"sentences", head.sentences}};
+  summary["headline"] = {
+      {"header", head.header}, {"rows", head.rows}, {"sentences", head.sentences}};
 
   const auto jc = components_of(joint, o.design_points);
   const auto ac = alone ? components_of(*alone, o.design_points) : RegionComponents{};
   const auto parts_json = [](const RegionComponents& c) {
     nlohmann::json a = nlohmann::json::array();
     for (const auto& p : c.parts)
-      a.push_back({{"nodes", p.nodes}, {"area", p.area}, {"lower", p.lower}, {"upper", p.upper},
-                   {"holds_best", p.holds_best}, {"design_points", p.design_points},
+      a.push_back({{"nodes", p.nodes},
+                   {"area", p.area},
+                   {"lower", p.lower},
+                   {"upper", p.upper},
+                   {"holds_best", p.holds_best},
+                   {"design_points", p.design_points},
                    {"between_design_points", p.between_design_points}});
     return a;
   };
@@ -260,13 +282,15 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     page.heading("Which (" + joint.parameters[0].name + ", " + joint.parameters[1].name +
                  ") reproduce the recordings?");
     const auto& R = joint.region;
-    const std::string xl = parameter_label(joint.parameters[0].name), yl = parameter_label(joint.parameters[1].name);
+    const std::string xl = parameter_label(joint.parameters[0].name),
+                      yl = parameter_label(joint.parameters[1].name);
     std::vector<ContourLine> iso;
     const int k_aor = target_index(joint, "angle_of_repose_deg");
     for (std::size_t k = 0; k < joint.targets.size(); ++k) {
       const auto& t = joint.targets[k];
-      iso.push_back({observable_short(t.observable) + " = " + observable_value(t.observable, t.measured) +
-                         " (measured" + (t.setup.empty() ? "" : ", " + t.setup) + ")",
+      iso.push_back({observable_short(t.observable) + " = " +
+                         observable_value(t.observable, t.measured) + " (measured" +
+                         (t.setup.empty() ? "" : ", " + t.setup) + ")",
                      grid_of(R, R.predicted_mean.at(k)), t.measured,
                      static_cast<int>(k) == k_aor ? "#08519c" : "#e6550d", 2, 2.0});
     }
@@ -278,7 +302,11 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       }
     std::vector<PointSet> refs;
     for (const auto& ref : o.references)
-      if (ref.theta.size() == 2) refs.push_back({ref.label, {ref.theta[0]}, {ref.theta[1]}, "points pt 3 ps 2.2 lc rgb '#000000' lw 2"});
+      if (ref.theta.size() == 2)
+        refs.push_back({ref.label,
+                        {ref.theta[0]},
+                        {ref.theta[1]},
+                        "points pt 3 ps 2.2 lc rgb '#000000' lw 2"});
     PointSet best{"best point, " + jl, {}, {}, "points pt 7 ps 1.6 lc rgb '#a50f15'"};
     if (!joint.minima.empty()) {
       best.x.push_back(joint.minima[0].theta(0));
@@ -301,51 +329,63 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       std::vector<double> fill;
       for (bool b : A.inside) fill.push_back(b ? 1.0 : 0.0);
       std::vector<ContourLine> lines;
-      lines.push_back({"95 % region, " + al + " alone (filled)", grid_of(A, A.chi_squared), A.threshold, "#3182bd", 1, 2.0});
+      lines.push_back({"95 % region, " + al + " alone (filled)", grid_of(A, A.chi_squared),
+                       A.threshold, "#3182bd", 1, 2.0});
       for (std::size_t k = 0; k < alone->targets.size(); ++k) {
         const auto& t = alone->targets[k];
-        lines.push_back({observable_short(t.observable) + " = " + observable_value(t.observable, t.measured) +
-                             " (measured)",
+        lines.push_back({observable_short(t.observable) + " = " +
+                             observable_value(t.observable, t.measured) + " (measured)",
                          grid_of(A, A.predicted_mean.at(k)), t.measured, "#08519c", 2, 2.0});
       }
       std::vector<PointSet> pts{design};
       // A rank-deficient problem has no meaningful minimum: no marker for it.
       if (!alone->minima.empty() && !alone->minima.front().rank_deficient)
-        pts.push_back({"best point, " + al + " alone", {alone->minima[0].theta(0)}, {alone->minima[0].theta(1)},
+        pts.push_back({"best point, " + al + " alone",
+                       {alone->minima[0].theta(0)},
+                       {alone->minima[0].theta(1)},
                        "points pt 6 ps 1.6 lc rgb '#08519c' lw 2"});
       for (const auto& r : refs) pts.push_back(r);
-      MapFigureOptions mo{al + " alone", xl, yl, "inside", 0, "defined (0 '#ffffff', 1 '#9ecae1')", 520, 470, false, 0, 1,
-                          island_labels(ac, A)};
+      MapFigureOptions mo{
+          al + " alone", xl,  yl,    "inside", 0, "defined (0 '#ffffff', 1 '#9ecae1')",
+          520,           470, false, 0,        1, island_labels(ac, A)};
       const auto fig = map_figure(dir, "key_figure_alone", grid_of(A, fill), lines, pts, mo);
       page.figure(fig.svg,
-                  "Filled: the 95 % region calibrated on " + al + " alone — every pair in it reproduces the recording "
-                  "within its uncertainty. " + (alone->minima.empty() || alone->minima.front().rank_deficient
-                  ? "No best point is marked: with one recording for two parameters the minimum is a valley, not a point."
-                  : ""),
+                  "Filled: the 95 % region calibrated on " + al +
+                      " alone — every pair in it reproduces the recording "
+                      "within its uncertainty. " +
+                      (alone->minima.empty() || alone->minima.front().rank_deficient
+                           ? "No best point is marked: with one recording for two parameters the "
+                             "minimum is a valley, not a point."
+                           : ""),
                   fig.data_files);
     }
     // Panel 2: AoR + time.
     {
       std::vector<double> fill;
       for (std::size_t n = 0; n < R.inside.size(); ++n) {
-        const bool in_a = alone && alone->region.available && n < alone->region.inside.size() && alone->region.inside[n];
+        const bool in_a = alone && alone->region.available && n < alone->region.inside.size() &&
+                          alone->region.inside[n];
         fill.push_back(R.inside[n] ? 2.0 : in_a ? 1.0 : 0.0);
       }
       std::vector<ContourLine> lines;
-      lines.push_back({"95 % region, " + jl + " (filled red)", grid_of(R, R.chi_squared), R.threshold, "#a50f15", 1, 2.5});
+      lines.push_back({"95 % region, " + jl + " (filled red)", grid_of(R, R.chi_squared),
+                       R.threshold, "#a50f15", 1, 2.5});
       if (alone && alone->region.available)
-        lines.push_back({"95 % region, " + al + " alone (light blue)", grid_of(alone->region, alone->region.chi_squared),
-                         alone->region.threshold, "#3182bd", 1, 1.2});
+        lines.push_back({"95 % region, " + al + " alone (light blue)",
+                         grid_of(alone->region, alone->region.chi_squared), alone->region.threshold,
+                         "#3182bd", 1, 1.2});
       for (const auto& l : iso) lines.push_back(l);
       std::vector<PointSet> pts{design, best};
       for (const auto& r : refs) pts.push_back(r);
-      MapFigureOptions mo{jl, xl, yl, "region", 0, "defined (0 '#ffffff', 1 '#deebf7', 2 '#fc9272')", 520, 470, false, 0, 2,
-                          island_labels(jc, R)};
+      MapFigureOptions mo{
+          jl,  xl,  yl,    "region", 0, "defined (0 '#ffffff', 1 '#deebf7', 2 '#fc9272')",
+          520, 470, false, 0,        2, island_labels(jc, R)};
       const auto fig = map_figure(dir, "key_figure", grid_of(R, fill), lines, pts, mo);
       std::ostringstream cap;
       cap << "Filled red: the 95 % region calibrated on " << jl << " {chi² − chi²_min ≤ "
           << num(R.threshold - R.chi_squared_min) << "}; light blue: the part of the " << al
-          << "-alone region it rules out. Dashed: where the surrogates predict each measured value. "
+          << "-alone region it rules out. Dashed: where the surrogates predict each measured "
+             "value. "
           << describe_components(jc, parameter_names(joint)) << ".";
       page.figure(fig.svg, cap.str(), fig.data_files);
     }
@@ -358,17 +398,30 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       std::vector<ContourLine> lines;
       const auto& cr = joint.posterior.credible_region;
       if (cr.available)
-        lines.push_back({"95 % credible region", grid_of(R, R.log_posterior), cr.log_posterior_level, "#ff7f0e", 1, 2.0});
+        lines.push_back({"95 % credible region", grid_of(R, R.log_posterior),
+                         cr.log_posterior_level, "#ff7f0e", 1, 2.0});
       std::vector<PointSet> pts{best};
       for (const auto& r : refs) {
         auto w = r;
         w.style = "points pt 3 ps 2.2 lc rgb '#ff3333' lw 2";
         pts.push_back(w);
       }
-      MapFigureOptions mo{"posterior, " + jl, xl, yl, "posterior density / its maximum", 0, "viridis", 520, 470, true, 0, 1, {}};
+      MapFigureOptions mo{"posterior, " + jl,
+                          xl,
+                          yl,
+                          "posterior density / its maximum",
+                          0,
+                          "viridis",
+                          520,
+                          470,
+                          true,
+                          0,
+                          1,
+                          {}};
       const auto fig = map_figure(dir, "posterior_map", grid_of(R, dens), lines, pts, mo);
       page.figure(fig.svg,
-                  "The posterior (adaptive Metropolis, surrogate variance included) over the same plane, relative to "
+                  "The posterior (adaptive Metropolis, surrogate variance included) over the same "
+                  "plane, relative to "
                   "its maximum; orange: its 95 % highest-density region.",
                   fig.data_files);
     }
@@ -381,10 +434,12 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     page.raw_html(html + "</ul>");
     summary["statements"] = text;
     summary["comparison"] = nlohmann::json::object();
-    if (alone && alone->region.available) summary["comparison"] = compare_regions(*alone, joint).to_json();
+    if (alone && alone->region.available)
+      summary["comparison"] = compare_regions(*alone, joint).to_json();
   }
   // The surrogates where it matters: over the joint 95 % region.
-  if (joint.region.available && o.models.size() == joint.targets.size() && joint.region.nodes_inside > 0) {
+  if (joint.region.available && o.models.size() == joint.targets.size() &&
+      joint.region.nodes_inside > 0) {
     const auto& R = joint.region;
     const std::size_t p = joint.parameters.size();
     page.heading("The surrogates over the " + jl + " 95 % region");
@@ -399,7 +454,8 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       for (std::size_t n = 0; n < R.inside.size(); ++n)
         if (R.inside[n]) {
           for (std::size_t a = 0; a < p; ++a)
-            nodes(row, static_cast<Eigen::Index>(a)) = R.axes[a][(n / strides[a]) % R.axes[a].size()];
+            nodes(row, static_cast<Eigen::Index>(a)) =
+                R.axes[a][(n / strides[a]) % R.axes[a].size()];
           ++row;
         }
     }
@@ -416,34 +472,44 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
         mean_sd += sd / static_cast<double>(pred.variance.size());
         max_sd = std::max(max_sd, sd);
       }
-      const double noise = std::sqrt(t.sigma_measured * t.sigma_measured + t.sigma_dem * t.sigma_dem);
-      rows.push_back({t.setup, observable_label(t.observable), num(mean_sd), num(max_sd), num(noise),
-                      max_sd > noise ? "the surrogate: more design points in the region would narrow it"
-                                     : "the recording and the DEM's scatter"});
+      const double noise =
+          std::sqrt(t.sigma_measured * t.sigma_measured + t.sigma_dem * t.sigma_dem);
+      rows.push_back(
+          {t.setup, observable_label(t.observable), num(mean_sd), num(max_sd), num(noise),
+           max_sd > noise ? "the surrogate: more design points in the region would narrow it"
+                          : "the recording and the DEM's scatter"});
       bool degenerate = false;
       for (std::size_t a = 0; a < p; ++a) degenerate = degenerate || !(hi[a] > lo[a]);
       nlohmann::json sj;
       if (!degenerate) {
-        const auto fig = sobol_figure(dir, "region_sobol_" + t.setup + "_" + t.observable, *o.models[k],
-                                      parameter_names(joint), lo, hi,
-                                      observable_label(t.observable) + ": Sobol indices over the 95 % region's box",
-                                      8192, sj);
-        figures.push_back({fig, "Which parameter moves " + observable_label(t.observable) + " within the box of the " +
-                                    jl + " 95 % region (" + box_text(parameter_names(joint), lo, hi) +
+        const auto fig = sobol_figure(
+            dir, "region_sobol_" + t.setup + "_" + t.observable, *o.models[k],
+            parameter_names(joint), lo, hi,
+            observable_label(t.observable) + ": Sobol indices over the 95 % region's box", 8192,
+            sj);
+        figures.push_back({fig, "Which parameter moves " + observable_label(t.observable) +
+                                    " within the box of the " + jl + " 95 % region (" +
+                                    box_text(parameter_names(joint), lo, hi) +
                                     "), not over the whole design box (the inspection report)."});
       }
-      js.push_back({{"setup", t.setup}, {"observable", t.observable}, {"surrogate_sd_mean", mean_sd},
-                    {"surrogate_sd_max", max_sd}, {"measurement_and_dem_sd", noise}, {"sobol_region_box", sj}});
+      js.push_back({{"setup", t.setup},
+                    {"observable", t.observable},
+                    {"surrogate_sd_mean", mean_sd},
+                    {"surrogate_sd_max", max_sd},
+                    {"measurement_and_dem_sd", noise},
+                    {"sobol_region_box", sj}});
     }
-    page.table({"setup", "observable", "surrogate sd, mean over the region", "largest", "recording and DEM scatter (sd)",
-                "what limits the region"},
+    page.table({"setup", "observable", "surrogate sd, mean over the region", "largest",
+                "recording and DEM scatter (sd)", "what limits the region"},
                rows, "The surrogates' own uncertainty inside the " + jl + " 95 % region");
     for (const auto& [fig, caption] : figures) page.figure(fig.svg, caption, fig.data_files);
     summary["region_surrogates"] = js;
   }
   summary["references"] = nlohmann::json::array();
   for (const auto& ref : o.references) {
-    const auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    const auto number = [](double v) {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+    };
     summary["references"].push_back({{"label", ref.label},
                                      {"theta", ref.theta},
                                      {"delta_chi_square_joint", number(ref.delta_chi_square_joint)},
@@ -451,17 +517,18 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
                                      {"delta_chi_square_alone", number(ref.delta_chi_square_alone)},
                                      {"inside_alone", ref.inside_alone}});
     if (!std::isfinite(ref.delta_chi_square_joint)) continue;
-    std::string t = ref.label + ": chi² − chi²_min = " + num(ref.delta_chi_square_joint, 3) + " (" + jcal + ", " +
-                    (ref.inside_joint ? "inside" : "outside") + " its 95 % region)";
+    std::string t = ref.label + ": chi² − chi²_min = " + num(ref.delta_chi_square_joint, 3) + " (" +
+                    jcal + ", " + (ref.inside_joint ? "inside" : "outside") + " its 95 % region)";
     if (std::isfinite(ref.delta_chi_square_alone))
-      t += ", " + num(ref.delta_chi_square_alone, 3) + " (" + acal + ", " + (ref.inside_alone ? "inside" : "outside") +
-           ")";
+      t += ", " + num(ref.delta_chi_square_alone, 3) + " (" + acal + ", " +
+           (ref.inside_alone ? "inside" : "outside") + ")";
     page.paragraph(t + ".");
   }
   for (const auto& r : o.remarks) page.paragraph(r);
 
   // The solver's own notes, once per calibration, as lists.
-  const auto notes = [&](const CalibrationResult& r, const std::string& label, const RegionComponents& c) {
+  const auto notes = [&](const CalibrationResult& r, const std::string& label,
+                         const RegionComponents& c) {
     if (r.notes.empty()) return;
     std::string html = "<h3>" + html_escape(label) + "</h3><ul>";
     for (auto n : r.notes) {
@@ -486,7 +553,8 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     for (std::size_t i = 0; i < joint.parameters.size(); ++i) {
       std::vector<LineSeries> series;
       double top = 0;
-      const auto add = [&](const CalibrationResult& r, const std::string& name, const std::string& colour) {
+      const auto add = [&](const CalibrationResult& r, const std::string& name,
+                           const std::string& colour) {
         if (!r.posterior.available) return;
         const auto& m = r.posterior.marginals.at(i);
         LineSeries s{name, {}, {}, "steps lw 2 lc rgb '" + colour + "'"};
@@ -500,28 +568,35 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       if (alone) add(*alone, acal, "#3182bd");
       add(joint, jcal, "#a50f15");
       if (bestm)
-        series.push_back(marker("best point, " + jl + " (" + num(bestm->theta(static_cast<Eigen::Index>(i))) + ")",
-                                bestm->theta(static_cast<Eigen::Index>(i)), top * 1.05,
-                                "lines lw 2.5 dt 4 lc rgb '#e6550d'"));
+        series.push_back(marker(
+            "best point, " + jl + " (" + num(bestm->theta(static_cast<Eigen::Index>(i))) + ")",
+            bestm->theta(static_cast<Eigen::Index>(i)), top * 1.05,
+            "lines lw 2.5 dt 4 lc rgb '#e6550d'"));
       for (const auto& ref : o.references)
         if (i < ref.theta.size())
-          series.push_back(marker(ref.label, ref.theta[i], top * 1.05, "lines lw 2 dt 2 lc rgb '#000000'"));
+          series.push_back(
+              marker(ref.label, ref.theta[i], top * 1.05, "lines lw 2 dt 2 lc rgb '#000000'"));
       const auto fig = line_figure(dir, "marginal_" + joint.parameters[i].name, series,
                                    "Marginal posterior of " + joint.parameters[i].name,
                                    parameter_label(joint.parameters[i].name), "density");
-      page.figure(fig.svg, "Marginal posterior density of " + joint.parameters[i].name + " (histogram of the samples).",
+      page.figure(fig.svg,
+                  "Marginal posterior density of " + joint.parameters[i].name +
+                      " (histogram of the samples).",
                   fig.data_files);
     }
     // Trace plots: each chain's samples in order; a chain that wanders off or sticks
     // shows here before it shows in R-hat.
     const auto& P = joint.posterior;
-    if (P.chains > 0 && P.samples_per_chain > 0 && P.samples.rows() >= P.chains * P.samples_per_chain) {
+    if (P.chains > 0 && P.samples_per_chain > 0 &&
+        P.samples.rows() >= P.chains * P.samples_per_chain) {
       static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a"};
       const int stride = std::max(1, P.samples_per_chain / 1000);
       for (std::size_t i = 0; i < joint.parameters.size(); ++i) {
         std::vector<LineSeries> series;
         for (int c = 0; c < P.chains; ++c) {
-          LineSeries s{"chain " + std::to_string(c + 1), {}, {},
+          LineSeries s{"chain " + std::to_string(c + 1),
+                       {},
+                       {},
                        std::string("lines lw 1 lc rgb '") + colours[c % 4] + "'"};
           for (int k = 0; k < P.samples_per_chain; k += stride) {
             s.x.push_back(k);
@@ -529,11 +604,14 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
           }
           series.push_back(s);
         }
-        const auto fig = line_figure(dir, "trace_" + joint.parameters[i].name, series,
-                                     "MCMC trace of " + joint.parameters[i].name + ", " + jl, "sample (after burn-in)",
-                                     parameter_label(joint.parameters[i].name));
+        const auto fig =
+            line_figure(dir, "trace_" + joint.parameters[i].name, series,
+                        "MCMC trace of " + joint.parameters[i].name + ", " + jl,
+                        "sample (after burn-in)", parameter_label(joint.parameters[i].name));
         page.figure(fig.svg,
-                    "Trace of each chain (" + (stride == 1 ? std::string("every sample") : "every " + std::to_string(stride) + "th sample") +
+                    "Trace of each chain (" +
+                        (stride == 1 ? std::string("every sample")
+                                     : "every " + std::to_string(stride) + "th sample") +
                         " shown): well-mixed chains overlap and look like noise around one level.",
                     fig.data_files);
       }
@@ -542,12 +620,14 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
     const auto add_rows = [&](const CalibrationResult& r, const std::string& label) {
       if (!r.posterior.available) return;
       for (const auto& m : r.posterior.marginals)
-        rows.push_back({label, m.name, num(m.mean, 4), num(m.sd, 3), num(m.lower, 4), num(m.median, 4),
-                        num(m.upper, 4), num(m.effective_sample_size, 4), num(m.r_hat, 4)});
+        rows.push_back({label, m.name, num(m.mean, 4), num(m.sd, 3), num(m.lower, 4),
+                        num(m.median, 4), num(m.upper, 4), num(m.effective_sample_size, 4),
+                        num(m.r_hat, 4)});
     };
     add_rows(joint, jcal);
     if (alone) add_rows(*alone, acal);
-    page.table({"calibration", "parameter", "mean", "sd", "2.5 %", "median", "97.5 %", "effective samples", "R-hat"},
+    page.table({"calibration", "parameter", "mean", "sd", "2.5 %", "median", "97.5 %",
+                "effective samples", "R-hat"},
                rows, "Calibrated values with 95 % credible intervals");
   }
   page.write(files.html);

@@ -77,7 +77,8 @@ std::string humanize_identifiers(std::string text) {
 std::string humanize_sentence(std::string text) {
   text = humanize_identifiers(std::move(text));
   const auto replace_all = [&](const std::string& from, const std::string& to) {
-    for (auto k = text.find(from); k != std::string::npos; k = text.find(from, k + to.size())) text.replace(k, from.size(), to);
+    for (auto k = text.find(from); k != std::string::npos; k = text.find(from, k + to.size()))
+      text.replace(k, from.size(), to);
   };
   replace_all("chi^2", "chi²");
   replace_all("+/-", "±");

@@ -31,13 +31,15 @@ bool overlap(const SvgTextBox& a, const SvgTextBox& b) {
 // and the element's own drawing sit inside.
 std::vector<std::pair<std::size_t, std::size_t>> plot_group_spans(const std::string& svg) {
   std::vector<std::pair<std::size_t, std::size_t>> spans;
-  for (std::size_t g = svg.find("<g id=\""); g != std::string::npos; g = svg.find("<g id=\"", g + 1)) {
+  for (std::size_t g = svg.find("<g id=\""); g != std::string::npos;
+       g = svg.find("<g id=\"", g + 1)) {
     const auto id_end = svg.find('"', g + 7);
     if (svg.substr(g + 7, id_end - g - 7).find("_plot_") == std::string::npos) continue;
     int depth = 0;
     std::size_t end = svg.size();
     for (std::size_t i = g; i < svg.size(); ++i) {
-      if (svg.compare(i, 2, "<g") == 0 && i + 2 < svg.size() && (svg[i + 2] == ' ' || svg[i + 2] == '>')) {
+      if (svg.compare(i, 2, "<g") == 0 && i + 2 < svg.size() &&
+          (svg[i + 2] == ' ' || svg[i + 2] == '>')) {
         ++depth;
       } else if (svg.compare(i, 4, "</g>") == 0 && --depth == 0) {
         end = i;
@@ -54,7 +56,8 @@ std::vector<std::pair<std::size_t, std::size_t>> plot_group_spans(const std::str
 std::vector<SvgTextBox> svg_text_boxes(const std::string& svg) {
   std::vector<SvgTextBox> out;
   const auto plot_groups = plot_group_spans(svg);
-  static const std::regex translate(R"(translate\(([-0-9.]+),([-0-9.]+)\)( rotate\(([-0-9.]+)\))?)");
+  static const std::regex translate(
+      R"(translate\(([-0-9.]+),([-0-9.]+)\)( rotate\(([-0-9.]+)\))?)");
   for (std::size_t k = svg.find("<g transform=\"translate("); k != std::string::npos;
        k = svg.find("<g transform=\"translate(", k + 1)) {
     const auto end_tag = svg.find('>', k);
@@ -118,8 +121,10 @@ std::vector<std::string> svg_layout_problems(const std::string& svg) {
   for (std::sregex_iterator it(svg.begin(), svg.end(), border), end; it != end; ++it) {
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
     for (int c = 0; c < 5; ++c) {
-      x0 = std::min(x0, std::stod((*it)[1 + 2 * c])), x1 = std::max(x1, std::stod((*it)[1 + 2 * c]));
-      y0 = std::min(y0, std::stod((*it)[2 + 2 * c])), y1 = std::max(y1, std::stod((*it)[2 + 2 * c]));
+      x0 = std::min(x0, std::stod((*it)[1 + 2 * c])),
+      x1 = std::max(x1, std::stod((*it)[1 + 2 * c]));
+      y0 = std::min(y0, std::stod((*it)[2 + 2 * c])),
+      y1 = std::max(y1, std::stod((*it)[2 + 2 * c]));
     }
     if (x1 - x0 > 40 && y1 - y0 > 40) areas.push_back({x0, y0, x1, y1});
   }
@@ -137,9 +142,11 @@ std::vector<std::string> svg_layout_problems(const std::string& svg) {
     // Points are <use> elements (a key sample is one more); a line is a path of three or
     // more points (a key sample has two).
     std::size_t uses = 0;
-    for (std::size_t u = seg.find("<use"); u != std::string::npos; u = seg.find("<use", u + 1)) ++uses;
+    for (std::size_t u = seg.find("<use"); u != std::string::npos; u = seg.find("<use", u + 1))
+      ++uses;
     drawn = drawn || uses >= 2;
-    for (std::size_t d = seg.find("d='M"); !drawn && d != std::string::npos; d = seg.find("d='M", d + 1)) {
+    for (std::size_t d = seg.find("d='M"); !drawn && d != std::string::npos;
+         d = seg.find("d='M", d + 1)) {
       const auto e = seg.find('\'', d + 4);
       const auto path = seg.substr(d, e - d);
       drawn = std::count(path.begin(), path.end(), ',') >= 3;

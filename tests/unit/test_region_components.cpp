@@ -87,9 +87,11 @@ TEST(RegionComponents, AnIslandWithoutADesignPointIsFlaggedAndDescribed) {
   EXPECT_NE(text.find("2 separate parts"), std::string::npos) << text;
   EXPECT_NE(text.find("part 2 (mu_r 0.1"), std::string::npos) << text;
   EXPECT_NE(text.find("add design points there"), std::string::npos) << text;
-  EXPECT_EQ(describe_components(region_components({axis(n), axis(n)}, mask(n, [](double, double y) { return y < 0.5; })),
-                                {"mu_r", "mu_s"}),
-            "one connected part");
+  EXPECT_EQ(
+      describe_components(
+          region_components({axis(n), axis(n)}, mask(n, [](double, double y) { return y < 0.5; })),
+          {"mu_r", "mu_s"}),
+      "one connected part");
 }
 
 TEST(RegionComponents, ThreeDimensionsAndBadSizesAreHandled) {

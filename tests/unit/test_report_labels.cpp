@@ -20,7 +20,8 @@ TEST(ReportLabels, ObservablesHaveHumanLabelsWithUnits) {
   EXPECT_EQ(observable_label("something_else"), "something_else");
   EXPECT_EQ(observable_value("angle_of_repose_deg", 30.9607), "30.96°");
   EXPECT_EQ(observable_value("discharge_time_s", 0.5542), "0.5542 s");
-  EXPECT_EQ(humanize_identifiers("surrogate for 'angle_of_repose_deg': bad"), "surrogate for angle of repose (°): bad");
+  EXPECT_EQ(humanize_identifiers("surrogate for 'angle_of_repose_deg': bad"),
+            "surrogate for angle of repose (°): bad");
 }
 
 TEST(ReportLabels, NumbersAreWrittenAsPeopleWriteThem) {
@@ -31,7 +32,8 @@ TEST(ReportLabels, NumbersAreWrittenAsPeopleWriteThem) {
   EXPECT_EQ(human_number(4.3e-4), "0.00043");
   EXPECT_EQ(human_number(12345.678, 4), "1.235e+04");
   EXPECT_EQ(human_number(std::nan("")), "—");
-  EXPECT_EQ(calibrate::humanize_sentence("One minimum: chi^2 = 1.39e-27 at (mu_r = 0.2 +/- 0.01), e 4.3e-4"),
+  EXPECT_EQ(calibrate::humanize_sentence(
+                "One minimum: chi^2 = 1.39e-27 at (mu_r = 0.2 +/- 0.01), e 4.3e-4"),
             "One minimum: chi² = 0 at (mu_r = 0.2 ± 0.01), e 4.3e-4");
 }
 
@@ -39,7 +41,8 @@ TEST(ConsoleOutput, AWarningIsPrintedOnceAndTablesAlignByCharacters) {
   std::ostringstream log;
   cli::warn_once(log, "the surrogate is worse than rerunning the DEM (test-only text 1)");
   cli::warn_once(log, "the surrogate is worse than rerunning the DEM (test-only text 1)");
-  EXPECT_EQ(log.str(), "warning: the surrogate is worse than rerunning the DEM (test-only text 1)\n");
+  EXPECT_EQ(log.str(),
+            "warning: the surrogate is worse than rerunning the DEM (test-only text 1)\n");
   EXPECT_EQ(cli::aligned_table({{"a", "b"}, {"±±", "c"}}, ""), "a   b\n±±  c\n");
 }
 

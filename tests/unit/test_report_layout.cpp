@@ -10,8 +10,8 @@
 #include "cli/fit_command.hpp"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -43,15 +43,21 @@ TEST(ReportLayout, TheCheckerCatchesALegendOverTheAxisTitleAndAnEmptyPlot) {
   bool overlap = false;
   for (const auto& p : problems) overlap = overlap || p.find("overlaps") != std::string::npos;
   EXPECT_TRUE(overlap) << ::testing::PrintToString(problems);
-  const std::string inside = calibrate::render_svg_with_gnuplot(
-      dir, "inside", calibrate::svg_preamble("inside", 500, 400) + "set key top left\nplot x title 'in the plot'\n");
+  const std::string inside =
+      calibrate::render_svg_with_gnuplot(dir, "inside",
+                                         calibrate::svg_preamble("inside", 500, 400) +
+                                             "set key top left\nplot x title 'in the plot'\n");
   bool in_plot = false;
-  for (const auto& p : calibrate::svg_layout_problems(inside)) in_plot = in_plot || p.find("inside the plot") != std::string::npos;
+  for (const auto& p : calibrate::svg_layout_problems(inside))
+    in_plot = in_plot || p.find("inside the plot") != std::string::npos;
   EXPECT_TRUE(in_plot);
   const std::string empty = calibrate::render_svg_with_gnuplot(
-      dir, "empty", calibrate::svg_preamble("empty", 500, 400) + "set xrange [0:1]\nset yrange [0:1]\nplot 5 notitle\n");
+      dir, "empty",
+      calibrate::svg_preamble("empty", 500, 400) +
+          "set xrange [0:1]\nset yrange [0:1]\nplot 5 notitle\n");
   bool nothing = false;
-  for (const auto& p : calibrate::svg_layout_problems(empty)) nothing = nothing || p.find("nothing is drawn") != std::string::npos;
+  for (const auto& p : calibrate::svg_layout_problems(empty))
+    nothing = nothing || p.find("nothing is drawn") != std::string::npos;
   EXPECT_TRUE(nothing);
   fs::remove_all(dir);
 }
@@ -74,12 +80,14 @@ TEST(ReportLayout, EveryFigureOfBothReportsIsDrawnShipsItsDataAndHasNoOverlappin
     const std::string html = slurp(page);
     const auto svgs = calibrate::svgs_in_html(html);
     std::size_t figures = 0;
-    for (auto k = html.find("<figure>"); k != std::string::npos; k = html.find("<figure>", k + 1)) ++figures;
+    for (auto k = html.find("<figure>"); k != std::string::npos; k = html.find("<figure>", k + 1))
+      ++figures;
     EXPECT_GE(svgs.size(), 6u) << page;
     EXPECT_EQ(svgs.size(), figures) << page << ": a figure without its SVG";
     for (std::size_t i = 0; i < svgs.size(); ++i) {
       const auto problems = calibrate::svg_layout_problems(svgs[i]);
-      EXPECT_TRUE(problems.empty()) << page << " figure " << i + 1 << ": " << ::testing::PrintToString(problems);
+      EXPECT_TRUE(problems.empty())
+          << page << " figure " << i + 1 << ": " << ::testing::PrintToString(problems);
     }
     // Every data link points at a file that is there.
     const std::regex link("<a href=\"([^\"]+\\.csv)\">");
@@ -98,7 +106,8 @@ TEST(ReportLayout, EveryFigureOfBothReportsIsDrawnShipsItsDataAndHasNoOverlappin
   EXPECT_TRUE(fs::exists(c.report.parent_path() / "key_figure_alone.svg"));
   EXPECT_TRUE(fs::exists(c.report.parent_path() / "posterior_map.svg"));
   const std::string headline = cal.substr(head, cal.find("</div>", head) - head);
-  EXPECT_EQ(headline.find("angle_of_repose_deg"), std::string::npos) << "a raw identifier in the headline";
+  EXPECT_EQ(headline.find("angle_of_repose_deg"), std::string::npos)
+      << "a raw identifier in the headline";
   EXPECT_EQ(cal.find("measured angle_of_repose_deg"), std::string::npos);
   // The JSON carries the same headline.
   const auto j = nlohmann::json::parse(slurp(c.json));
