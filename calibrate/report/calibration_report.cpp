@@ -200,10 +200,15 @@ Headline calibration_headline(const CalibrationResult* alone, const CalibrationR
       "best point and is too narrow when the region is not an ellipse.");
   if (alone && alone->region.available && joint.region.available) {
     const auto cmp = compare_regions(*alone, joint);
-    std::string s = "Adding the " + jl.substr(std::min(jl.size(), al.size() + 3)) +
-                    " shrinks the 95 % region " + num(cmp.ratio) + "-fold: area " +
-                    num(cmp.area_a) + " with " + al + " alone, " + num(cmp.area_b) + " with " + jl +
-                    " (in " + joint.parameters[0].name;
+    std::string added;
+    for (const auto& t : joint.targets) {
+      const std::string o = observable_short(t.observable);
+      if (al.find(o) == std::string::npos && added.find(o) == std::string::npos)
+        added += (added.empty() ? "" : " + ") + o;
+    }
+    std::string s = "Adding the " + added + " shrinks the 95 % region " + num(cmp.ratio) +
+                    "-fold: area " + num(cmp.area_a) + " with " + al + " alone, " +
+                    num(cmp.area_b) + " with " + jl + " (in " + joint.parameters[0].name;
     for (std::size_t i = 1; i < joint.parameters.size(); ++i) s += " × " + joint.parameters[i].name;
     s += " units)";
     if (std::isfinite(cmp.credible_ratio) && cmp.credible_ratio > 0)
