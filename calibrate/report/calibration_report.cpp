@@ -139,10 +139,19 @@ std::string fit_text(const CalibrationResult& r) {
   const std::string chi = "chi² = " + human_number(r.fit.chi_square, 3, 1e-9);
   if (dof < 1) {
     const std::size_t n = r.targets.size(), p = r.parameters.size();
-    return chi + "; " + std::to_string(n) + " recording" + (n == 1 ? "" : "s") + " for " +
-           std::to_string(p) + " parameter" + (p == 1 ? "" : "s") +
-           ": no degrees of freedom left, so the fit can match any data and "
-           "tests nothing";
+    const std::string count = std::to_string(n) + " recording" + (n == 1 ? "" : "s") + " for " +
+                              std::to_string(p) + " parameter" + (p == 1 ? "" : "s");
+    // With no degrees of freedom a pair that matches exactly gives chi² = 0; a clearly
+    // positive one means no pair in the box does.
+    if (r.fit.chi_square > 4.0) {
+      bool at_bound = !r.minima.empty() && r.minima.front().at_bound;
+      return chi + " with " + count + ": no pair in the box matches the recordings" +
+             (at_bound ? " (the best point lies on a bound: widen the box, or check the recordings "
+                         "and the model)"
+                       : " (check the recordings and the model)");
+    }
+    return chi + "; " + count +
+           ": no degrees of freedom left, so the fit can match any data and tests nothing";
   }
   return chi + " on " + std::to_string(dof) + " degree" + (dof == 1 ? "" : "s") + " of freedom" +
          (std::isfinite(r.fit.p_value) ? ", p = " + num(r.fit.p_value, 2) : "");
