@@ -399,8 +399,20 @@ CalibrationReportFiles write_calibration_report(const fs::path& dir, const Calib
       cap << "Filled red: the 95 % region calibrated on " << jl << " {chi² − chi²_min ≤ "
           << num(R.threshold - R.chi_squared_min) << "}; light blue: the part of the " << al
           << "-alone region it rules out. Dashed: where the surrogates predict each measured "
-             "value. "
+             "value. The region: "
           << describe_components(jc, parameter_names(joint)) << ".";
+      // A measured value the surrogate reaches nowhere in the box has no iso-line.
+      for (std::size_t k = 0; k < joint.targets.size(); ++k) {
+        const auto& mean = R.predicted_mean.at(k);
+        const auto [lo, hi] = std::minmax_element(mean.begin(), mean.end());
+        const auto& t = joint.targets[k];
+        if (lo != mean.end() && (t.measured < *lo || t.measured > *hi))
+          cap << " No " << observable_short(t.observable) << " iso-line: the measured "
+              << observable_value(t.observable, t.measured)
+              << " lies outside what the surrogate predicts anywhere in "
+              << "the box (" << observable_value(t.observable, *lo) << " to "
+              << observable_value(t.observable, *hi) << ").";
+      }
       page.figure(fig.svg, cap.str(), fig.data_files);
     }
     // Panel 3: the posterior.
