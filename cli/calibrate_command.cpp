@@ -3,15 +3,19 @@
 #include "calibrate/calibration.hpp"
 #include "calibrate/confidence_region.hpp"
 #include "calibrate/report/calibration_report.hpp"
+#include "calibrate/report/labels.hpp"
 #include "cli/calibration_config.hpp"
 #include "cli/calibration_targets.hpp"
+#include "cli/console.hpp"
 #include "cli/recordings_csv.hpp"
 #include "cli/run_store.hpp"
 #include "cli/simulate_command.hpp"
 #include "cli/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
+#include "surrogate/gaussian_process.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -31,9 +35,18 @@ std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& para
   std::ostringstream s;
   s << "(";
   for (std::size_t i = 0; i < params.size(); ++i)
-    s << (i ? ", " : "") << params[i].name << " = " << theta(static_cast<Eigen::Index>(i));
+    s << (i ? ", " : "") << params[i].name << " = " << calibrate::human_number(theta(static_cast<Eigen::Index>(i)), 4);
   s << ")";
   return s.str();
+}
+
+// The closing summary: the report's headline box as text.
+void print_headline(std::ostream& log, const std::string& study, const calibrate::Headline& head) {
+  std::vector<std::vector<std::string>> rows{head.header};
+  for (const auto& r : head.rows) rows.push_back(r);
+  log << "\n" << study << ": the calibrated values\n" << aligned_table(rows);
+  for (const auto& s : head.sentences) log << "  - " << s << "\n";
+  log << "  (the solver's notes, the figures and the tables: in the calibration report)\n\n";
 }
 
 }  // namespace
@@ -57,7 +70,8 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
   for (const auto& t : all)
     if (t.observable == alone_name) single.push_back(t);
   if (!alone_name.empty() && single.size() < all.size() && !single.empty()) {
-    log << "calibrating " << study.name << " on " << alone_name << " alone, for the comparison ...\n";
+    log << "calibrating " << study.name << " on the " << calibrate::observable_name(alone_name)
+        << " alone, for the comparison ...\n";
     alone = calibrate::calibrate(params, single, co);
   } else if (cc.alone && !cc.alone->empty() && single.empty()) {
     throw ConfigError(study.file + ": [calibration] alone = \"" + alone_name + "\" is not among the recordings");
@@ -65,6 +79,23 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
 
   calibrate::CalibrationReportOptions ro;
   ro.study_name = study.name;
+  // The design points (those a Gaussian process was fitted to) and the surrogates, for
+  // the report's region parts and its diagnostics over the region.
+  {
+    std::vector<Eigen::RowVectorXd> points;
+    for (const auto& t : all) {
+      ro.models.push_back(t.model);
+      const auto* gp = dynamic_cast<const surrogate::GaussianProcess*>(t.model.get());
+      if (!gp || gp->state().x.cols() != static_cast<Eigen::Index>(params.size())) continue;
+      for (Eigen::Index r = 0; r < gp->state().x.rows(); ++r) {
+        const Eigen::RowVectorXd x = gp->state().x.row(r);
+        if (std::none_of(points.begin(), points.end(), [&](const auto& q) { return q.isApprox(x, 1e-12); }))
+          points.push_back(x);
+      }
+    }
+    ro.design_points.resize(static_cast<Eigen::Index>(points.size()), static_cast<Eigen::Index>(params.size()));
+    for (std::size_t r = 0; r < points.size(); ++r) ro.design_points.row(static_cast<Eigen::Index>(r)) = points[r];
+  }
   if (!cc.reference_label.empty()) {
     if (cc.reference_point.size() != params.size())
       throw ConfigError(study.file + ": [calibration] reference_point has " + std::to_string(cc.reference_point.size()) +
@@ -110,7 +141,10 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
   }
   const auto files = calibrate::write_calibration_report(dir / "reports" / "calibration", alone ? &*alone : nullptr,
                                                          joint, ro);
-  for (const auto& n : joint.notes) log << "note: " << n << "\n";
+  // The closing summary: the report's headline, made by the same code.
+  if (!o.quiet) {
+    print_headline(log, study.name, calibrate::calibration_headline(alone ? &*alone : nullptr, joint, ro));
+  }
   out << "calibration report: " << files.html.string() << "\n";
   return {files.html, files.json};
 }
@@ -191,6 +225,20 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
     stages.done("calibrate", cal_digest);
   } else {
     log << "calibrate: up to date (surrogates, [calibration] and recordings unchanged)\n";
+    // The main result all the same: the headline the report's JSON keeps.
+    try {
+      std::ifstream in(report.parent_path() / "calibration.json");
+      const auto j = nlohmann::json::parse(in);
+      if (!o.doe.quiet && j.contains("headline")) {
+        calibrate::Headline head;
+        head.header = j["headline"]["header"].get<std::vector<std::string>>();
+        head.rows = j["headline"]["rows"].get<std::vector<std::vector<std::string>>>();
+        head.sentences = j["headline"]["sentences"].get<std::vector<std::string>>();
+        print_headline(log, study.name, head);
+      }
+    } catch (const std::exception&) {
+      // An older report without a headline: its path is enough.
+    }
     out << "calibration report: " << report.string() << "\n";
   }
   return report;

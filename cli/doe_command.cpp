@@ -320,6 +320,7 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
     double run_seconds = 0.0;
     std::size_t bar_width = 0;
     bool bar_shown = false;
+    double last_eta_s = 0.0;
     auto draw_bar = [&] {
       const std::size_t done = outcome.reused + outcome.executed;
       const double elapsed = seconds_since(start);
@@ -357,8 +358,20 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
                 << total << "] point " << run.point << " replicate " << run.replicate << " "
                 << run.apparatus << " (" << describe_point(plan, run.point) << "): "
                 << (e.ok ? "ok" : "failed") << " in " << seconds_text(e.wall_time_s)
-                << (e.ok ? "" : ": " + e.error) << " -> runs/" << run.key.hash << ".json\n"
-                << std::flush;
+                << (e.ok ? "" : ": " + e.error) << " -> runs/" << run.key.hash << ".json\n";
+            // The ETA in a log too (no terminal, no bar): at most every 30 s and at the end.
+            const double elapsed = seconds_since(start);
+            const std::size_t done = outcome.reused + outcome.executed;
+            if (elapsed - last_eta_s >= 30.0 || done == total) {
+              last_eta_s = elapsed;
+              const double mean = run_seconds / static_cast<double>(outcome.executed);
+              log << "demcal doe: " << who << done << "/" << total << " done, " << outcome.failed << " failed, "
+                  << duration_text(elapsed) << " elapsed"
+                  << (done < total ? ", ETA " + duration_text(mean * static_cast<double>(total - done) / options.jobs)
+                                   : std::string())
+                  << "\n";
+            }
+            log << std::flush;
           }
         }
         if (options.progress) draw_bar();

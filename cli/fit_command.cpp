@@ -1,6 +1,8 @@
 #include "cli/fit_command.hpp"
 
 #include "calibrate/report/inspection_report.hpp"
+#include "calibrate/report/labels.hpp"
+#include "cli/console.hpp"
 #include "cli/doe_csv.hpp"
 #include "cli/study_config.hpp"
 #include "cli/surrogate_config.hpp"
@@ -124,12 +126,15 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       j["doe_csv"] = c.table.file;
       dem::write_file_atomically(file, j.dump(1) + "\n");
       outcome.files.push_back(file);
-      if (!f.scatter_check.within_scatter) outcome.warnings.push_back(f.scatter_check.message);
+      if (!f.scatter_check.within_scatter)
+        outcome.warnings.push_back(calibrate::humanize_identifiers(f.scatter_check.message));
       if (!o.quiet) {
         std::ostringstream s;
-        s << apparatus << " " << name << ": " << f.model->description() << "; " << f.runs << " runs at "
-          << f.scatter.points << " points; LOO RMSE " << f.validation.rmse << ", Q2 " << f.validation.q_squared
-          << "; DEM scatter sd " << f.scatter.sd;
+        using calibrate::human_number;
+        s << apparatus << " " << calibrate::observable_label(name) << ": " << calibrate::surrogate_description(f) << "; "
+          << f.runs << " runs at " << f.scatter.points << " points; leave-one-out RMSE "
+          << human_number(f.validation.rmse) << ", Q² " << human_number(f.validation.q_squared)
+          << "; DEM scatter sd " << human_number(f.scatter.sd);
         log << s.str() << "\n";
       }
     }
@@ -139,7 +144,7 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       throw ConfigError(c.study.file + ": [surrogate] observables lists " + name + ", but no run in " +
                         c.table.file + " measured it");
   if (outcome.files.empty()) throw ConfigError(c.table.file + ": no observable with data to fit");
-  for (const auto& w : outcome.warnings) log << "warning: " << w << "\n";
+  for (const auto& w : outcome.warnings) warn_once(log, w);
   for (const auto& f : outcome.files) out << "surrogate: " << f.string() << "\n";
   return outcome;
 }
@@ -166,6 +171,7 @@ fs::path inspect(const FitOptions& o, std::ostream& out, std::ostream& log) {
     s.fit = surrogate::fitted_surrogate_from_json(j);
     const auto data = data_for(c, s.setup, c.table.observable_index(s.fit.output_name));
     s.design_x = data.x;
+    s.design_y = data.y;
     if (s.fit.spec.model == "gaussian_process") {
       surrogate::SurrogateSpec poly;
       poly.model = "polynomial";
@@ -184,7 +190,7 @@ fs::path inspect(const FitOptions& o, std::ostream& out, std::ostream& log) {
   ro.lower = c.lower;
   ro.upper = c.upper;
   const auto files_out = calibrate::write_inspection_report(c.dir / "reports" / "inspection", list, ro);
-  for (const auto& w : files_out.warnings) log << "warning: " << w << "\n";
+  for (const auto& w : files_out.warnings) warn_once(log, w);
   out << "inspection report: " << files_out.html.string() << "\n";
   return files_out.html;
 }

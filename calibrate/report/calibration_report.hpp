@@ -1,15 +1,20 @@
 #pragma once
-// The calibration report: one HTML page with the key figure of the study — the
-// (mu_r, mu_s) plane with the measured-AoR and measured-time iso-lines of the
-// surrogates, the 95 % region of the calibration on AoR alone and of the one on
-// AoR and time, and their best points — stated in words beside it (each
-// region's area, their ratio, which parameter each identifies), then the
-// minima with chi-square and residuals, the Gauss-Newton uncertainty, and the
-// MCMC marginals. The CSV/JSON behind every figure is written beside it.
+// The calibration report: one HTML page that opens with a headline box — per parameter
+// the calibrated value, its 95 % intervals from the likelihood-ratio region and the
+// posterior, the Gauss-Newton +- (marked local), whether AoR + time and AoR alone
+// identify it; then the area ratio, the parts of each region (islands between design
+// points flagged), the reference point and the fit, in words. Then the key figure as
+// filled panels — AoR alone | AoR + time | the posterior — with iso-lines labelled with
+// their units, the surrogates' uncertainty and Sobol indices over the 95 % region, the
+// solver's notes, the minima with chi-square and residuals, and the MCMC marginals
+// (best point and reference marked) and traces. The CSV/JSON behind every figure is
+// written beside it; docs/guide.md explains each section.
 
 #include "calibrate/calibration.hpp"
+#include "calibrate/region_components.hpp"
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <limits>
 #include <string>
@@ -30,6 +35,14 @@ struct ReferencePoint {
 
 struct CalibrationReportOptions {
   std::string study_name;
+  // The design's points (rows, parameters' order; may be empty): drawn on the key figure,
+  // and a part of a 95 % region that holds none of them is flagged as existing only
+  // between design points.
+  Eigen::MatrixXd design_points;
+  // The surrogate of each of the joint calibration's targets (same order; may be empty):
+  // their uncertainty and Sobol indices are reported over the 95 % region, where they
+  // matter, not only over the box.
+  std::vector<std::shared_ptr<const surrogate::SurrogateModel>> models;
   std::vector<ReferencePoint> references;
   // Free text (plain) appended under the key figure, e.g. what a verification run gave.
   std::vector<std::string> remarks;
@@ -46,6 +59,21 @@ CalibrationReportFiles write_calibration_report(const std::filesystem::path& dir
                                                 const CalibrationResult* alone,
                                                 const CalibrationResult& joint,
                                                 const CalibrationReportOptions& options);
+
+// The headline: one row per parameter, cells in plain words, and the sentences under it
+// (area ratio, parts of the regions, reference points, fit). The HTML box, the JSON's
+// "headline" and the console's closing summary are all made from it, so they agree.
+struct Headline {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> sentences;
+};
+Headline calibration_headline(const CalibrationResult* alone, const CalibrationResult& joint,
+                              const CalibrationReportOptions& options);
+
+// "2 recordings for 2 parameters: no degrees of freedom left, the fit can match any data"
+// or "chi² = 1.2 on 3 degrees of freedom, p = 0.75".
+std::string fit_text(const CalibrationResult& r);
 
 // "mu_s is identified: its 95 % region spans 0.47-0.58, clear of both bounds" etc.
 std::vector<std::string> identification_statements(const CalibrationResult& r, const std::string& label);

@@ -75,6 +75,28 @@ std::string palette(const std::string& name) {
   return "set palette defined (0 '#440154', 0.25 '#3b528b', 0.5 '#21918c', 0.75 '#5ec962', 1 '#fde725')\n";
 }
 
+// Pins the plot area (margins at screen positions) and puts the legend in a band of its
+// own under the x-axis title, one entry a line: the same layout in every figure, so a
+// legend never covers data or an axis title (the HTML test checks it on the SVG).
+// Returns the settings; `total_height` is plot_height plus the legend band.
+constexpr int kKeyLine = 22;
+
+std::string frame(int width, int plot_height, int key_entries, bool colorbox, int& total_height) {
+  const int band = key_entries > 0 ? 16 + kKeyLine * key_entries : 0;
+  total_height = plot_height + band;
+  const double W = width, H = total_height;
+  std::ostringstream s;
+  s << std::setprecision(4) << "set lmargin at screen " << 78 / W << "\nset rmargin at screen "
+    << 1 - (colorbox ? 120 : 24) / W << "\nset tmargin at screen " << 1 - 34 / H << "\nset bmargin at screen "
+    << (band + 58) / H << "\n";
+  if (key_entries > 0)
+    s << "set key at screen " << 20 / W << "," << (band - 4) / H
+      << " left top vertical Left reverse nobox samplen 3 spacing 1.2 maxrows " << key_entries << "\n";
+  else
+    s << "unset key\n";
+  return s.str();
+}
+
 }  // namespace
 
 RenderedFigure map_figure(const fs::path& directory, const std::string& name, const GridField& field,
@@ -84,8 +106,13 @@ RenderedFigure map_figure(const fs::path& directory, const std::string& name, co
   RenderedFigure out;
   write_grid(directory, name + "_map", field, o.value_label.empty() ? "value" : o.value_label);
   out.data_files.push_back(name + "_map.csv");
+  std::size_t entries = 0;
+  for (const auto& l : lines) entries += !l.label.empty();
+  for (const auto& p : points) entries += !p.label.empty();
+  int total_height = 0;
+  const std::string layout = frame(o.width_px, o.height_px, static_cast<int>(entries), o.colorbox, total_height);
   std::ostringstream s;
-  s << svg_preamble(name, o.width_px, o.height_px);
+  s << svg_preamble(name, o.width_px, total_height) << layout;
   s << "set datafile separator whitespace\n";
   // Contour tables first (gnuplot computes iso-lines only in splot).
   s << "set view map\nunset surface\nset contour base\n";
@@ -108,22 +135,25 @@ RenderedFigure map_figure(const fs::path& directory, const std::string& name, co
     write_table(directory, stem, {"x", "y"}, {points[i].x, points[i].y});
     out.data_files.push_back(stem + ".csv");
   }
-  s << palette(o.palette);
+  s << (o.palette == "viridis" || o.palette == "diverging" ? palette(o.palette) : "set palette " + o.palette + "\n");
+  if (!o.colorbox) s << "unset colorbox\n";
+  if (o.value_max > o.value_min) s << "set cbrange [" << o.value_min << ":" << o.value_max << "]\n";
+  for (const auto& l : o.labels)
+    s << "set label " << q(l.text) << " at " << l.x << "," << l.y << " front font ',11' textcolor rgb '#222222'\n";
   s << "set title " << q(o.title) << "\nset xlabel " << q(o.x_label) << "\nset ylabel " << q(o.y_label)
     << "\nset cblabel " << q(o.value_label) << "\n";
   s << "set xrange [" << field.x.front() << ":" << field.x.back() << "]\nset yrange [" << field.y.front()
     << ":" << field.y.back() << "]\n";
-  s << "set key outside bottom center horizontal box opaque\nset size ratio -1\nset size noratio\n";
   s << "plot " << q(name + "_map.dat") << " using 1:2:3 with image notitle";
   if (o.contour_levels > 0)
     s << ", " << q(name + "_map_contours.tab") << " using 1:2 with lines lc rgb '#ffffff' lw 0.6 notitle";
   for (std::size_t i = 0; i < lines.size(); ++i)
     s << ", " << q(name + "_line" + std::to_string(i) + ".tab") << " using 1:2 with lines lc rgb "
-      << q(lines[i].color) << " lw " << lines[i].width << " dt " << lines[i].dash << " title "
-      << q(lines[i].label);
+      << q(lines[i].color) << " lw " << lines[i].width << " dt " << lines[i].dash << " "
+      << (lines[i].label.empty() ? "notitle" : "title " + q(lines[i].label));
   for (std::size_t i = 0; i < points.size(); ++i)
     s << ", " << q(name + "_points" + std::to_string(i) + ".dat") << " using 1:2 with " << points[i].style
-      << " title " << q(points[i].label);
+      << " " << (points[i].label.empty() ? "notitle" : "title " + q(points[i].label));
   s << "\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());
   return out;
@@ -148,14 +178,16 @@ RenderedFigure parity_figure(const fs::path& directory, const std::string& name,
     hi = std::max({hi, observed[i], predicted[i] + sd2[i]});
   }
   const double pad = 0.05 * (hi - lo + 1e-12);
+  int total_height = 0;
+  const std::string layout = frame(520, 470, 2, false, total_height);
   std::ostringstream s;
-  s << svg_preamble(name, 520, 480) << "set datafile separator whitespace\n"
-    << "set title " << q(title) << "\nset xlabel " << q("DEM (observed) " + quantity_label)
-    << "\nset ylabel " << q("surrogate, left out (predicted) " + quantity_label) << "\n"
+  s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
+    << "set title " << q(title) << "\nset xlabel " << q("DEM run " + quantity_label)
+    << "\nset ylabel " << q("surrogate without it " + quantity_label) << "\n"
     << "set xrange [" << lo - pad << ":" << hi + pad << "]\nset yrange [" << lo - pad << ":" << hi + pad
-    << "]\nset size square\nset key top left\n"
+    << "]\n"
     << "plot x with lines lc rgb '#888888' dt 2 title 'y = x', " << q(name + ".dat")
-    << " using 1:2:3 with yerrorbars pt 7 ps 0.7 lc rgb '#1f77b4' title 'leave-one-out +-2 sd'\n";
+    << " using 1:2:3 with yerrorbars pt 7 ps 0.7 lc rgb '#1f77b4' title 'leave-one-out prediction, bars ±2 sd'\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());
   return out;
 }
@@ -168,11 +200,13 @@ RenderedFigure residual_figure(const fs::path& directory, const std::string& nam
   RenderedFigure out;
   write_table(directory, name, {"predicted", "standardized_residual"}, {predicted, standardized_residuals});
   out.data_files.push_back(name + ".csv");
+  int total_height = 0;
+  const std::string layout = frame(520, 400, 2, false, total_height);
   std::ostringstream s;
-  s << svg_preamble(name, 520, 400) << "set datafile separator whitespace\n"
+  s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
     << "set title " << q(title) << "\nset xlabel " << q(x_label)
-    << "\nset ylabel 'standardized residual'\nset yrange [-1e9<*<-3:3<*<1e9]\nset key top right\n"
-    << "plot 2 with lines lc rgb '#d62728' dt 2 title '+-2', -2 with lines lc rgb '#d62728' dt 2 notitle, "
+    << "\nset ylabel 'standardized residual'\nset yrange [-1e9<*<-3:3<*<1e9]\n"
+    << "plot 2 with lines lc rgb '#d62728' dt 2 title '±2 (95 % of points should lie between)', -2 with lines lc rgb '#d62728' dt 2 notitle, "
        "0 with lines lc rgb '#888888' notitle, "
     << q(name + ".dat") << " using 1:2 with points pt 7 ps 0.7 lc rgb '#1f77b4' title 'leave-one-out'\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());
@@ -205,18 +239,20 @@ RenderedFigure bar_figure(const fs::path& directory, const std::string& name,
   out.data_files = {name + ".csv", name + "_labels.csv"};
   const double w = 0.8 / static_cast<double>(std::max<std::size_t>(1, series.size()));
   static const char* colors[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728"};
+  int total_height = 0;
+  const std::string layout = frame(520, 400, static_cast<int>(series.size()), false, total_height);
   std::ostringstream s;
-  s << svg_preamble(name, 520, 400) << "set datafile separator whitespace\n"
+  s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
     << "set title " << q(title) << "\nset ylabel " << q(y_label) << "\nset yrange [0:*]\n"
     << "set xrange [-0.6:" << static_cast<double>(labels.size()) - 0.4 << "]\nset xtics (";
   for (std::size_t i = 0; i < labels.size(); ++i) s << (i ? ", " : "") << q(labels[i]) << " " << i;
-  s << ")\nset style fill solid 0.8 border -1\nset boxwidth " << w << "\nset key top right\nplot ";
+  s << ")\nset style fill solid 0.8 border -1\nset boxwidth " << w << "\nplot ";
   for (std::size_t k = 0; k < series.size(); ++k) {
     const double off = (static_cast<double>(k) - 0.5 * static_cast<double>(series.size() - 1)) * w;
     s << (k ? ", " : "") << q(name + ".dat") << " using ($1+" << off << "):" << 2 + 2 * k
       << " with boxes lc rgb " << q(colors[k % 4]) << " title " << q(series[k].name) << ", "
       << q(name + ".dat") << " using ($1+" << off << "):" << 2 + 2 * k << ":" << 3 + 2 * k
-      << " with yerrorbars pt -1 lc rgb '#222222' notitle";
+      << " with yerrorbars pt 7 ps 0 lc rgb '#222222' notitle";
   }
   s << "\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());
@@ -228,16 +264,20 @@ RenderedFigure line_figure(const fs::path& directory, const std::string& name,
                            const std::string& x_label, const std::string& y_label) {
   fs::create_directories(directory);
   RenderedFigure out;
+  std::size_t entries = 0;
+  for (const auto& l : series) entries += !l.name.empty();
+  int total_height = 0;
+  const std::string layout = frame(520, 380, static_cast<int>(entries), false, total_height);
   std::ostringstream s;
-  s << svg_preamble(name, 520, 400) << "set datafile separator whitespace\n"
+  s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
     << "set title " << q(title) << "\nset xlabel " << q(x_label) << "\nset ylabel " << q(y_label)
-    << "\nset key top right\nplot ";
+    << "\nplot ";
   for (std::size_t k = 0; k < series.size(); ++k) {
     const std::string stem = name + "_" + std::to_string(k);
     write_table(directory, stem, {"x", "y"}, {series[k].x, series[k].y});
     out.data_files.push_back(stem + ".csv");
-    s << (k ? ", " : "") << q(stem + ".dat") << " using 1:2 with " << series[k].style << " title "
-      << q(series[k].name);
+    s << (k ? ", " : "") << q(stem + ".dat") << " using 1:2 with " << series[k].style << " "
+      << (series[k].name.empty() ? "notitle" : "title " + q(series[k].name));
   }
   s << "\n";
   out.svg = render_svg_with_gnuplot(directory, name, s.str());

@@ -36,11 +36,23 @@ struct ContourLine {
   double width = 2.0;
 };
 
+// Text written into a map at (x, y), e.g. "part 2: no design point".
+struct MapLabel {
+  double x = 0, y = 0;
+  std::string text;
+};
+
 struct MapFigureOptions {
   std::string title, x_label, y_label, value_label;
   int contour_levels = 10;  // of the colour map's own field (0: none)
-  std::string palette = "viridis";  // "viridis" | "diverging"
-  int width_px = 640, height_px = 520;
+  // "viridis" | "diverging" | a gnuplot palette definition ("defined (0 'white', 1 '#aec7e8')")
+  std::string palette = "viridis";
+  // The plot area and its labels; the legend gets a band of its own under the x-axis title
+  // (the SVG is taller by it), so it never covers data or an axis title.
+  int width_px = 600, height_px = 500;
+  bool colorbox = true;
+  double value_min = 0, value_max = 0;  // colour range; equal: from the data
+  std::vector<MapLabel> labels = {};
 };
 
 // A colour map of `field` with its contour lines, overlaid lines (iso-lines

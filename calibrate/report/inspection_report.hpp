@@ -23,6 +23,9 @@ struct InspectedSurrogate {
   std::string setup;  // the apparatus, e.g. "sandglass"
   surrogate::FittedSurrogate fit;
   Eigen::MatrixXd design_x;  // the runs' inputs (for the maps)
+  // The runs' values of this observable, one per row of design_x; NaN where a run gave
+  // none (a pile that spread flat has no angle of repose). Empty: all gave one.
+  Eigen::VectorXd design_y;
   // For a Gaussian process: a polynomial fitted to the same runs (degree by
   // leave-one-out), whose coefficient table with standard errors is the
   // paper-style regression equation; it is shown, not used.
@@ -42,6 +45,10 @@ struct InspectionReportFiles {
   std::filesystem::path json;  // <directory>/inspection.json: the numbers of every table
   std::vector<std::string> warnings;
 };
+
+// The model in words, as the report and the console write it ("..., nugget from
+// replicates, 22 points" where the model stores per-point nuggets taken from replicates).
+std::string surrogate_description(const surrogate::FittedSurrogate& fit);
 
 // Writes the report into `directory` (created). Throws std::runtime_error when
 // gnuplot fails, std::invalid_argument on inconsistent inputs.
