@@ -578,12 +578,13 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     MemberScratch& scratch = member_scratch_[m];
     scratch.elastic_j = elastic;
     scratch.contacts = contacts;
+  });
 
-    // Every member's contributions are in; each member now finishes a slice of
-    // the particles: the sum over the members' buffers in member order (so a
-    // run repeats bit for bit at a given thread count), the body forces, and
-    // what the caller does with the new forces (the second kick).
-    team_->barrier();
+  // Every chunk's contributions are in; each chunk now finishes a slice of the
+  // particles: the sum over the chunks' buffers in chunk order (so a run
+  // repeats bit for bit at a given thread count), the body forces, and what
+  // the caller does with the new forces (the second kick).
+  team_->run([&](int m) {
     const std::size_t begin = ThreadTeam::split(n, members, m), end = ThreadTeam::split(n, members, m + 1);
     if (members > 1) {
       for (std::size_t i = begin; i < end; ++i) {
@@ -598,7 +599,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       }
     }
     for (const auto& bf : body_forces_) bf->add(particles_, begin, end, particles_.force_n, particles_.torque_nm);
-    scratch.first_bad = finish(begin, end);
+    member_scratch_[m].first_bad = finish(begin, end);
   });
 
   double elastic = 0.0;

@@ -17,8 +17,10 @@ inline void cpu_relax() {
 
 ThreadTeam::ThreadTeam(int size) : size_(size) {
   if (size < 1) throw std::invalid_argument("a thread team needs at least one member");
+  // No chunk is open until the first run.
+  next_chunk_.store(static_cast<std::uint32_t>(size), std::memory_order_relaxed);
   workers_.reserve(static_cast<std::size_t>(size - 1));
-  for (int m = 1; m < size; ++m) workers_.emplace_back([this, m] { worker(m); });
+  for (int m = 1; m < size; ++m) workers_.emplace_back([this] { worker(); });
 }
 
 ThreadTeam::~ThreadTeam() {
@@ -39,47 +41,48 @@ void ThreadTeam::wait_while_equal(const std::atomic<std::uint32_t>& word, std::u
     }
     cpu_relax();
   }
-  // Spinning did not pay: the member we wait for is not running. Spin less
+  // Spinning did not pay: the thread we wait for is not running. Spin less
   // next time and give the core away now.
   spin_budget_.store(std::max(kMinSpin, budget / 2), std::memory_order_relaxed);
   while (word.load(std::memory_order_acquire) == old) word.wait(old, std::memory_order_acquire);
 }
 
-void ThreadTeam::run_erased(Call call, void* context) {
-  call_ = call;
-  context_ = context;
-  const std::uint32_t done = done_generation_.load(std::memory_order_acquire);
-  start_generation_.fetch_add(1, std::memory_order_release);
-  start_generation_.notify_all();
-  call(context, 0);
-  wait_while_equal(done_generation_, done);
-}
-
-void ThreadTeam::worker(int member) {
-  std::uint32_t seen = 0;
+void ThreadTeam::work_on_chunks() {
+  const auto chunks = static_cast<std::uint32_t>(size_);
   for (;;) {
-    wait_while_equal(start_generation_, seen);
-    seen = start_generation_.load(std::memory_order_acquire);
-    if (stop_) return;
-    call_(context_, member);
-    if (finished_.fetch_add(1, std::memory_order_acq_rel) + 1 == static_cast<std::uint32_t>(size_ - 1)) {
-      finished_.store(0, std::memory_order_relaxed);
+    const std::uint32_t chunk = next_chunk_.fetch_add(1, std::memory_order_acq_rel);
+    if (chunk >= chunks) return;
+    call_(context_, static_cast<int>(chunk));
+    if (completed_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) {
       done_generation_.fetch_add(1, std::memory_order_release);
       done_generation_.notify_all();
     }
   }
 }
 
-void ThreadTeam::barrier() {
-  if (size_ == 1) return;
-  const std::uint32_t generation = barrier_generation_.load(std::memory_order_acquire);
-  if (barrier_arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == static_cast<std::uint32_t>(size_)) {
-    barrier_arrived_.store(0, std::memory_order_relaxed);
-    barrier_generation_.fetch_add(1, std::memory_order_release);
-    barrier_generation_.notify_all();
-    return;
+void ThreadTeam::run_erased(Call call, void* context) {
+  // Every chunk of the previous run is done (run waited for it), so no thread
+  // is inside call_; a late worker may still try to claim, and claims succeed
+  // only once next_chunk_ is reset below, when call_ is already this run's.
+  call_ = call;
+  context_ = context;
+  completed_.store(0, std::memory_order_relaxed);
+  const std::uint32_t done = done_generation_.load(std::memory_order_acquire);
+  next_chunk_.store(0, std::memory_order_release);
+  start_generation_.fetch_add(1, std::memory_order_release);
+  start_generation_.notify_all();
+  work_on_chunks();
+  wait_while_equal(done_generation_, done);
+}
+
+void ThreadTeam::worker() {
+  std::uint32_t seen = 0;
+  for (;;) {
+    wait_while_equal(start_generation_, seen);
+    seen = start_generation_.load(std::memory_order_acquire);
+    if (stop_) return;
+    work_on_chunks();
   }
-  wait_while_equal(barrier_generation_, generation);
 }
 
 }  // namespace demcal::dem

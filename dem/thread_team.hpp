@@ -3,19 +3,23 @@
 // engine sets itself.
 //
 // Why not OpenMP's parallel regions: libgomp's threads busy-wait at every
-// fork, join and barrier (its default spin count), and its wait policy can
-// only be changed through OMP_WAIT_POLICY before the library loads, not by the
-// program. A step forked five times; on a machine where another process holds
-// a core, each fork or barrier then waited for a thread the kernel had
-// descheduled while its partner spun on the other core, and a 2-thread run
-// slowed down 10-25x (BENCHMARKS.md). This team spins only briefly (a few
-// microseconds, long enough for a partner that is merely behind) and then
-// sleeps on a futex (std::atomic::wait), so a member that waits gives its core
-// back to the member it is waiting for.
+// fork, join and barrier (its default spin count), its wait policy can only be
+// changed through OMP_WAIT_POLICY before the library loads, and a region's
+// work is tied to its threads. A step forked five times; on a machine where
+// another process holds a core, each fork or barrier waited for a thread the
+// kernel had descheduled, and a 2-thread run slowed down 10-25x
+// (BENCHMARKS.md).
 //
-// Work is split statically by member index, so a run is bit-identical for a
-// given thread count. A team of one runs the work on the caller, with no
-// thread and no synchronisation at all.
+// Here the work of a run is a fixed set of chunks, one per member of the
+// team, that any thread may take: the caller and the workers claim chunks
+// until none is left. When a worker is descheduled, or still asleep when the
+// run starts, the caller takes its chunk instead of waiting for it, so a
+// 2-thread run on a busy machine degrades to about the speed of one thread,
+// not below it. Chunk c is always the same work and writes the same buffers,
+// whichever thread runs it, so a run is bit-identical for a given thread
+// count. A thread that finds nothing to do spins briefly, then sleeps on a
+// futex (std::atomic::wait) and gives its core back. A team of one runs the
+// work on the caller, with no thread and no synchronisation at all.
 
 #include <atomic>
 #include <cstdint>
@@ -35,23 +39,20 @@ class ThreadTeam {
 
   int size() const { return size_; }
 
-  // Calls fn(member) on every member, member 0 on the calling thread, and
-  // returns when all have finished: one fork and one join. fn must not throw
-  // (the engine's loops report errors through their results instead).
+  // Calls fn(chunk) for every chunk 0 .. size()-1, each once, on whichever
+  // thread claims it (the caller works too), and returns when all are done.
+  // fn must not throw (the engine's loops report errors through their results).
   template <class Fn>
   void run(Fn&& fn) {
     if (size_ == 1) {
       fn(0);
       return;
     }
-    run_erased([](void* f, int member) { (*static_cast<std::remove_reference_t<Fn>*>(f))(member); },
+    run_erased([](void* f, int chunk) { (*static_cast<std::remove_reference_t<Fn>*>(f))(chunk); },
                static_cast<void*>(&fn));
   }
 
-  // Inside run(): waits until every member has arrived.
-  void barrier();
-
-  // The half-open range [begin, end) of n items that member m of the team works on.
+  // The half-open range [begin, end) of n items that chunk m of `members` works on.
   static std::size_t split(std::size_t n, int members, int m) {
     return n * static_cast<std::size_t>(m) / static_cast<std::size_t>(members);
   }
@@ -59,7 +60,9 @@ class ThreadTeam {
  private:
   using Call = void (*)(void*, int);
   void run_erased(Call call, void* context);
-  void worker(int member);
+  void worker();
+  // Claims and runs chunks of the current run until none is left.
+  void work_on_chunks();
   // Spins briefly on `word` while it equals `old`, then sleeps until it changes.
   void wait_while_equal(const std::atomic<std::uint32_t>& word, std::uint32_t old);
 
@@ -70,10 +73,9 @@ class ThreadTeam {
   bool stop_ = false;
   // Each on its own cache line: they are the only words members write to.
   alignas(64) std::atomic<std::uint32_t> start_generation_{0};
-  alignas(64) std::atomic<std::uint32_t> finished_{0};
+  alignas(64) std::atomic<std::uint32_t> next_chunk_{0};
+  alignas(64) std::atomic<std::uint32_t> completed_{0};
   alignas(64) std::atomic<std::uint32_t> done_generation_{0};
-  alignas(64) std::atomic<std::uint32_t> barrier_arrived_{0};
-  alignas(64) std::atomic<std::uint32_t> barrier_generation_{0};
   // How many pause instructions a waiter spins before it sleeps. Adapts: it
   // shrinks when spinning did not pay (the partner was descheduled, as on a
   // shared machine) and grows back while waits end during the spin.
