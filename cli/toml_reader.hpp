@@ -389,6 +389,11 @@ class Table {
   }
   double as_number(const toml::node& n, std::string_view key, const Range& r) const {
     std::optional<double> v;
+    // 0x10, 0o20 and 0b10000 are TOML integers, but a physical quantity written
+    // so is a slip (0x10 reads as 16): numbers are taken in decimal only.
+    if (n.is_integer() && n.as_integer()->flags() != toml::value_flags::none)
+      fail(key, "expected " + r.text() + " written in decimal, got " + describe_value(n) +
+                    " written in hexadecimal, octal or binary");
     if (n.is_integer())
       v = static_cast<double>(*n.value<std::int64_t>());
     else if (n.is_floating_point())
@@ -461,8 +466,21 @@ void require_above(Table& t, std::string_view upper_key, const Vec3& lower, cons
 // A size table: { distribution = "...", <that distribution's keys> }.
 std::unique_ptr<dem::SizeDistribution> read_size(Table& s);
 
+// Why `name` cannot be one component of a file name (empty, "." or "..", a
+// path separator, "..", a NUL or other control character), or "" when it can.
+// Every name that becomes part of a file name is checked with it.
+std::string file_name_problem(std::string_view name);
+
 // A name that also names an output directory: non-empty, no '/'.
 std::string read_run_name(Table& t, std::string_view key);
+
+// Physical bounds of material and contact inputs: beyond them a value is a
+// slip (1e6 for a friction coefficient, 1e308 kg/m3), not a material.
+// Densities: up to 3e4 kg/m3 (osmium: 22 590). Moduli: up to 1e13 Pa (diamond:
+// 1.2e12). Friction coefficients (sliding, rolling): up to 10.
+inline const Range kDensityRange = between(0, true, 3e4, false);
+inline const Range kModulusRange = between(0, true, 1e13, false);
+inline const Range kFrictionRange = between(0, false, 10, false);
 
 // The schema pieces both config kinds share. Each reads its keys (the caller
 // reads any others, e.g. a material's name, and calls finish()) and checks
