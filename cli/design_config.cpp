@@ -20,8 +20,10 @@ namespace {
 constexpr std::int64_t kMaxPoints = 100000;
 constexpr std::int64_t kMaxLevels = 1000;
 constexpr double kMaxFactorialPoints = 1e6;
-// Points x replicates (each apparatus runs them all).
-constexpr double kMaxDesignRuns = 1e5;
+// Points x replicates (each apparatus runs them all). Planning builds the study
+// at every point (about 0.1 s each for a sandglass), so 5000 is minutes of
+// planning before anything runs; the largest design in studies/ has 208.
+constexpr double kMaxDesignRuns = 5000;
 
 std::string first_segment(const std::string& path) {
   return path.substr(0, std::min(path.find_first_of(".["), path.size()));

@@ -361,8 +361,17 @@ std::optional<nlohmann::json> parse_run_record(std::string_view text, const std:
 
 std::string record_content_digest(const nlohmann::json& record) {
   nlohmann::json copy = record;
-  if (copy.is_object() && copy.contains("design") && copy["design"].is_object())
-    copy["design"].erase("content_digest");
+  if (copy.is_object()) {
+    // What differs between two identical runs (the clock, the path the study
+    // was given as) is left out, so that their records keep one digest.
+    copy.erase("written_utc");
+    copy.erase("config_file");
+    if (copy.contains("design") && copy["design"].is_object()) copy["design"].erase("content_digest");
+    if (copy.contains("results") && copy["results"].is_object()) {
+      copy["results"].erase("wall_time_s");
+      copy["results"].erase("particle_steps_per_s");
+    }
+  }
   return sha256_hex(canonical_json(copy));
 }
 

@@ -96,7 +96,9 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 std::optional<nlohmann::json> parse_run_record(std::string_view text, const std::string& digest,
                                                std::string* problem = nullptr);
 
-// SHA-256 of the record's canonical text without design.content_digest: what
+// SHA-256 of the record's canonical text without design.content_digest (and
+// without what the clock and the study's path change: written_utc,
+// config_file, results.wall_time_s and .particle_steps_per_s): what
 // RunStore::store writes into design.content_digest, so that a record edited
 // by hand (an AoR changed to 89, to "fourteen") is not taken for a run's.
 std::string record_content_digest(const nlohmann::json& record);

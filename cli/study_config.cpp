@@ -90,22 +90,22 @@ const Range kPositive = above(0);
 const Range kHalfAngle = between(0, true, 80, true);
 // A dimension of a laboratory test: positive, and at most kMaxApparatusExtent_m
 // (a 1e6 m chamber is a slip, and its fill lattice alone would not fit in memory).
-const Range kLength = between(0, true, kMaxApparatusExtent_m, false);
+constexpr Plausible kMaxLength{kMaxApparatusExtent_m, "no laboratory test is larger"};
 
 std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m, double max_steps,
                                                const dem::RunProtocol& p) {
   dem::SandglassOptions o;
-  o.upper_diameter_m = t.number("upper_diameter_m", kLength);
-  o.upper_height_m = t.number("upper_height_m", kLength);
+  o.upper_diameter_m = t.number_at_most("upper_diameter_m", kPositive, kMaxLength);
+  o.upper_height_m = t.number_at_most("upper_height_m", kPositive, kMaxLength);
   o.bottom = t.choice("bottom", {"flat", "conical"});
   if (o.bottom == "conical" || t.has("hopper_half_angle_deg"))
     o.hopper_half_angle_deg = t.number("hopper_half_angle_deg", kHalfAngle);
-  o.orifice_diameter_m = t.number("orifice_diameter_m", kLength);
+  o.orifice_diameter_m = t.number_at_most("orifice_diameter_m", kPositive, kMaxLength);
   if (o.bottom == "conical")
     check_cone_height(t, "hopper_half_angle_deg", o.upper_diameter_m, o.orifice_diameter_m,
                       o.hopper_half_angle_deg);
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
-  o.lower_diameter_m = t.number("lower_diameter_m", kLength);
+  o.lower_diameter_m = t.number_at_most("lower_diameter_m", kPositive, kMaxLength);
   // Refused here, naming both: the engine's message names lower_diameter_m
   // first, which blames it when upper_diameter_m is the one too large.
   if (o.lower_diameter_m < o.upper_diameter_m)
@@ -113,7 +113,7 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
                 " exceeds lower_diameter_m = " + format_number(o.lower_diameter_m) +
                 ": the lower chamber must be at least as wide as the upper one (one of the two "
                 "is wrong)");
-  o.drop_height_m = t.number("drop_height_m", kLength);
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
   o.form_pile = t.boolean_or("form_pile", o.form_pile);
   o.fill_lattice_spacing_diameters = t.number_or("fill_lattice_spacing_diameters",
                                                  o.fill_lattice_spacing_diameters,
@@ -127,14 +127,14 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
 std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m, double max_steps,
                                                   const dem::RunProtocol& p) {
   dem::ConicalPileOptions o;
-  o.funnel_top_diameter_m = t.number("funnel_top_diameter_m", kLength);
-  o.funnel_outlet_diameter_m = t.number("funnel_outlet_diameter_m", kLength);
+  o.funnel_top_diameter_m = t.number_at_most("funnel_top_diameter_m", kPositive, kMaxLength);
+  o.funnel_outlet_diameter_m = t.number_at_most("funnel_outlet_diameter_m", kPositive, kMaxLength);
   o.funnel_half_angle_deg = t.number("funnel_half_angle_deg", kHalfAngle);
   check_cone_height(t, "funnel_half_angle_deg", o.funnel_top_diameter_m, o.funnel_outlet_diameter_m,
                     o.funnel_half_angle_deg);
-  o.feed_height_m = t.number("feed_height_m", kLength);
-  o.drop_height_m = t.number("drop_height_m", kLength);
-  o.base_diameter_m = t.number("base_diameter_m", kLength);
+  o.feed_height_m = t.number_at_most("feed_height_m", kPositive, kMaxLength);
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
+  o.base_diameter_m = t.number_at_most("base_diameter_m", kPositive, kMaxLength);
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
   o.reduction = read_reduction(t, true);
   t.finish();
@@ -147,8 +147,8 @@ std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
                                                            double max_steps,
                                                            const dem::RunProtocol& p) {
   dem::RectangularContainerOptions o;
-  o.width_m = t.number("width_m", kLength);
-  o.height_m = t.number("height_m", kLength);
+  o.width_m = t.number_at_most("width_m", kPositive, kMaxLength);
+  o.height_m = t.number_at_most("height_m", kPositive, kMaxLength);
   const bool has_m = t.has("thickness_m");
   const bool has_d = t.has("thickness_diameters");
   if (!has_m && !has_d)
@@ -157,7 +157,7 @@ std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
            "(a number > 0)");
   if (has_m && has_d)
     t.fail("thickness_diameters", "give thickness_m or thickness_diameters, not both");
-  if (has_m) o.thickness_m = t.number("thickness_m", kLength);
+  if (has_m) o.thickness_m = t.number_at_most("thickness_m", kPositive, kMaxLength);
   if (has_d) o.thickness_diameters = t.number("thickness_diameters", kPositive);
   o.boundary = t.choice("boundary", {"walls", "periodic"});
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);

@@ -173,22 +173,22 @@ std::string read_run_name(Table& t, std::string_view key) {
 }
 
 void read_material_properties(Table& t, dem::Material& m) {
-  m.density_kg_m3 = t.number("density_kg_m3", kDensityRange);
+  m.density_kg_m3 = t.number_at_most("density_kg_m3", above(0), kMaxDensity);
   const bool has_e = t.has("youngs_modulus_pa");
   const bool has_g = t.has("shear_modulus_pa");
   if (!has_e && !has_g)
     t.fail("youngs_modulus_pa",
            "missing required key; expected a number > 0 (or give shear_modulus_pa)");
-  if (has_e) m.youngs_modulus_pa = t.number("youngs_modulus_pa", kModulusRange);
-  if (has_g) m.shear_modulus_pa = t.number("shear_modulus_pa", kModulusRange);
+  if (has_e) m.youngs_modulus_pa = t.number_at_most("youngs_modulus_pa", above(0), kMaxModulus);
+  if (has_g) m.shear_modulus_pa = t.number_at_most("shear_modulus_pa", above(0), kMaxModulus);
   m.poisson_ratio = t.number("poisson_ratio", between(-1, true, 0.5, true));
 }
 
 dem::InteractionParameters read_interaction(Table& t) {
   dem::InteractionParameters p;
   p.restitution = t.number("restitution", between(0, true, 1, false));
-  p.sliding_friction = t.number("sliding_friction", kFrictionRange);
-  p.rolling_friction = t.number("rolling_friction", kFrictionRange);
+  p.sliding_friction = t.number_at_most("sliding_friction", at_least(0), kMaxFriction);
+  p.rolling_friction = t.number_at_most("rolling_friction", at_least(0), kMaxFriction);
   p.rolling_stiffness_factor = t.number_or("rolling_stiffness_factor", 2.25, above(0));
   p.rolling_damping_ratio = t.number_or("rolling_damping_ratio", 0.3, at_least(0));
   // Not written in when absent: configs without adhesion resolve (and hash) as before.
