@@ -32,6 +32,9 @@ inline constexpr double kStandardGravity = 9.81;
 inline constexpr double kImpactSpeed_m_s = 1.0;
 inline constexpr double kMaxOverlapFraction = 0.10;
 inline constexpr double kDefaultMaxSteps = 1e10;
+// More grains than this in one fill is beyond a workstation (and its fill
+// lattice alone would take minutes to lay out): refused at fill_mass_kg.
+inline constexpr double kMaxGrains = 1e7;
 // No laboratory test this toolkit models is larger than this in any direction.
 inline constexpr double kMaxApparatusExtent_m = 100.0;
 
@@ -54,6 +57,11 @@ void check_rest_protocol(reader::Table& protocol_table, const dem::RunProtocol& 
 void check_run_estimate(reader::Table& apparatus_table, const dem::GranularMaterial& material,
                         const dem::ModelReduction& reduction, const dem::RunProtocol& protocol,
                         double max_steps);
+
+// fill_mass_kg / the mass of a mean (scaled) grain must be at most kMaxGrains
+// (the full apparatus' fill, before a slice takes its share).
+void check_grain_count(reader::Table& t, const dem::GranularMaterial& material,
+                       const dem::ModelReduction& reduction, double fill_mass_kg);
 
 // A cone (hopper, funnel) from `wide_m` down to `narrow_m` at `half_angle_deg`
 // from the vertical must be at most kMaxApparatusExtent_m tall: refused at
