@@ -129,20 +129,26 @@ std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
       s.finish();
       out = guarded(s, [&] { return dem::make_uniform_about_mean(mean, w); });
     } else {
-      const auto [lo, hi] = bounds();
+      // Not a structured binding: clang 14 cannot capture one in the lambda below.
+      const std::pair<double, double> range = bounds();
+      const double lo = range.first, hi = range.second;
       s.finish();
       out = guarded(s, [&] { return dem::make_uniform(lo, hi); });
     }
   } else if (dist == "truncated_normal") {
     const double mean = s.number("mean_diameter_m", above(0));
     const double sd = s.number("std_dev_m", at_least(0));
-    const auto [lo, hi] = bounds();
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::pair<double, double> range = bounds();
+    const double lo = range.first, hi = range.second;
     s.finish();
     out = guarded(s, [&] { return dem::make_truncated_normal(mean, sd, lo, hi); });
   } else if (dist == "log_normal") {
     const double median = s.number("median_diameter_m", above(0));
     const double sigma = s.number("sigma_ln", at_least(0));
-    const auto [lo, hi] = bounds();
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::pair<double, double> range = bounds();
+    const double lo = range.first, hi = range.second;
     s.finish();
     out = guarded(s, [&] { return dem::make_log_normal(median, sigma, lo, hi); });
   } else {

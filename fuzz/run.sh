@@ -43,14 +43,18 @@ seed() {  # harness -> copies the repository's files of that kind into its corpu
   local h=$1 dir=$2 f i=0
   mkdir -p "$dir"
   case $h in
-    study_toml) files=$(ls studies/*/study.toml tests/data/*/*.toml tests/concealed/*.toml.in 2>/dev/null) ;;
-    recordings_csv) files=$(ls studies/*/recordings*.csv tests/bad_input/files/*recordings*.csv 2>/dev/null) ;;
-    doe_csv) files=$(ls studies/*/doe.csv studies/*/truth_runs.csv tests/concealed/truth/runs.csv 2>/dev/null) ;;
+    study_toml) files=$(ls studies/*/study.toml tests/data/*/*.toml tests/concealed/*.toml.in 2>/dev/null || true) ;;
+    recordings_csv) files=$(ls studies/*/recordings*.csv tests/bad_input/base/recordings.csv 2>/dev/null || true) ;;
+    doe_csv) files=$(ls studies/*/doe.csv studies/*/truth_runs.csv tests/concealed/truth/runs.csv 2>/dev/null || true) ;;
     run_record) files=$(ls fuzz/seeds/run_record*.json) ;;
   esac
   for f in $files; do
-    # Large tables are cut to their first 40 lines: the reader is line by line.
-    head -n 40 "$f" > "$dir/seed-$i-$(basename "$f")"
+    # Large tables are cut to their first 40 lines (the reader is line by line);
+    # TOML files are taken whole.
+    case $h in
+      study_toml) cp "$f" "$dir/seed-$i-$(basename "$f")" ;;
+      *) head -n 40 "$f" > "$dir/seed-$i-$(basename "$f")" ;;
+    esac
     i=$((i + 1))
   done
 }
@@ -60,11 +64,13 @@ run_one() {
   mkdir -p "$dir"
   seed "$h" "$dir/corpus"
   # -timeout: a single input taking 10 s is a hang; -rss_limit_mb: a runaway allocation.
-  ( cd "$dir" && nice -n 19 "../../$build/fuzz/fuzz_$h" corpus -max_total_time="$seconds" \
-      -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 > "../$h.log" 2>&1 ) || true
+  ( cd "$dir" && nice -n 19 "$build/fuzz/fuzz_$h" corpus -max_total_time="$seconds" \
+      -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 > "$work/$h.log" 2>&1 ) || true
 }
 
 mkdir -p "$work"
+work=$(cd "$work" && pwd)
+build=$(cd "$build" && pwd)
 running=0
 for h in "${harnesses[@]}"; do
   run_one "$h" &
