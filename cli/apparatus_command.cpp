@@ -118,7 +118,7 @@ SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocumen
     // The record of a failed run is still evidence; a failure to write it must
     // not hide the original error.
     try {
-      write_run_record(dir, make_apparatus_run_record(study, chosen, res, nullptr));
+      write_failed_run_record(dir, make_apparatus_run_record(study, chosen, res, nullptr));
     } catch (const std::exception&) {
     }
     throw;

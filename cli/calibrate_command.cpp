@@ -139,14 +139,20 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
     s << " (" << v.run_record.string() << ").";
     ro.remarks.push_back(s.str());
   }
-  const auto files = calibrate::write_calibration_report(dir / "reports" / "calibration", alone ? &*alone : nullptr,
-                                                         joint, ro);
+  // Written whole beside the previous report, then put in its place.
+  const fs::path report_dir = dir / "reports" / "calibration";
+  fs::create_directories(report_dir.parent_path());
+  const fs::path staged = staging_directory(report_dir);
+  const auto files = calibrate::write_calibration_report(staged, alone ? &*alone : nullptr, joint, ro);
+  replace_directory(staged, report_dir);
+  const fs::path html = report_dir / fs::relative(files.html, staged);
+  const fs::path json = report_dir / fs::relative(files.json, staged);
   // The closing summary: the report's headline, made by the same code.
   if (!o.quiet) {
     print_headline(log, study.name, calibrate::calibration_headline(alone ? &*alone : nullptr, joint, ro));
   }
-  out << "calibration report: " << files.html.string() << "\n";
-  return {files.html, files.json};
+  out << "calibration report: " << html.string() << "\n";
+  return {html, json};
 }
 
 namespace {
@@ -166,11 +172,16 @@ struct Stages {
       }
     }
   }
-  bool current(const std::string& stage, const std::string& digest) const {
-    return j.contains(stage) && j[stage] == digest;
+  // Up to date: the inputs' digest is the one recorded, and the outputs on
+  // disk are the ones the stage wrote (not edited, not left half by a failure).
+  bool current(const std::string& stage, const std::string& digest, const fs::path& outputs) const {
+    const std::string key = stage + ".outputs";
+    return j.contains(stage) && j[stage] == digest && j.contains(key) && fs::exists(outputs) &&
+           j[key] == directory_digest(outputs);
   }
-  void done(const std::string& stage, const std::string& digest) {
+  void done(const std::string& stage, const std::string& digest, const fs::path& outputs) {
     j[stage] = digest;
+    j[stage + ".outputs"] = directory_digest(outputs);
     dem::write_file_atomically(file, j.dump(1) + "\n");
   }
 };
@@ -200,29 +211,33 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
   const std::string doe_csv = slurp(dir / "doe.csv");
   const std::string fit_digest = sha256_hex(doe_csv + "\n" + table_text(study.resolved, "surrogate") +
                                             table_text(study.resolved, "design"));
-  if (o.force || !stages.current("fit", fit_digest) || !fs::exists(dir / "surrogates")) {
+  const fs::path surrogates = dir / "surrogates";
+  if (o.force || !stages.current("fit", fit_digest, surrogates)) {
     fit(fo, out, log);
-    stages.done("fit", fit_digest);
+    stages.done("fit", fit_digest, surrogates);
     stages.j.erase("inspect");
     stages.j.erase("calibrate");
   } else {
-    log << "fit: up to date (doe.csv and [surrogate] unchanged)\n";
+    log << "fit: up to date (doe.csv, [surrogate] and the surrogate files unchanged)\n";
   }
+  // The later stages read the surrogate files: their digest is part of their inputs.
+  const std::string surrogates_digest = directory_digest(surrogates);
+  const std::string inspect_digest = sha256_hex(fit_digest + surrogates_digest);
   const fs::path inspection = dir / "reports" / "inspection" / "index.html";
-  if (o.force || !stages.current("inspect", fit_digest) || !fs::exists(inspection)) {
+  if (o.force || !stages.current("inspect", inspect_digest, inspection.parent_path()) || !fs::exists(inspection)) {
     inspect(fo, out, log);
-    stages.done("inspect", fit_digest);
+    stages.done("inspect", inspect_digest, inspection.parent_path());
   } else {
     log << "inspect: up to date\n";
     out << "inspection report: " << inspection.string() << "\n";
   }
   if (!study.calibration) return inspection;
-  const std::string cal_digest =
-      sha256_hex(fit_digest + table_text(study.resolved, "calibration") + slurp(study.calibration->recordings));
+  const std::string cal_digest = sha256_hex(fit_digest + surrogates_digest + table_text(study.resolved, "calibration") +
+                                            slurp(study.calibration->recordings));
   const fs::path report = dir / "reports" / "calibration" / "index.html";
-  if (o.force || !stages.current("calibrate", cal_digest) || !fs::exists(report)) {
+  if (o.force || !stages.current("calibrate", cal_digest, report.parent_path()) || !fs::exists(report)) {
     calibrate_study(fo, out, log);
-    stages.done("calibrate", cal_digest);
+    stages.done("calibrate", cal_digest, report.parent_path());
   } else {
     log << "calibrate: up to date (surrogates, [calibration] and recordings unchanged)\n";
     // The main result all the same: the headline the report's JSON keeps.

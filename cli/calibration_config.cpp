@@ -6,7 +6,8 @@
 
 namespace demcal::cli {
 
-std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file) {
+std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
+                                                  const std::optional<DesignConfig>& design) {
   if (!root.has("calibration")) return std::nullopt;
   reader::Table t = root.table("calibration");
   CalibrationConfig c;
@@ -37,6 +38,17 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
   if (c.reference_label.empty() != c.reference_point.empty())
     t.fail(c.reference_label.empty() ? "reference_point" : "reference_label",
            "reference_label and reference_point go together: give both or neither");
+  if (design && !c.reference_point.empty()) {
+    const auto& params = design->spec.parameters;
+    // (A diagnosis' extended design adds a parameter after those the point gives.)
+    for (std::size_t k = 0; k < params.size() && k < c.reference_point.size(); ++k)
+      if (c.reference_point[k] < params[k].lower || c.reference_point[k] > params[k].upper)
+        t.fail("reference_point", "entry " + std::to_string(k) + " (" + params[k].name + ") is " +
+                                      reader::format_number(c.reference_point[k]) +
+                                      ", outside the design box [" + reader::format_number(params[k].lower) +
+                                      ", " + reader::format_number(params[k].upper) +
+                                      "]; the surrogates say nothing there");
+  }
   t.finish();
   return c;
 }

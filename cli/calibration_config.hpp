@@ -20,6 +20,7 @@
 //   reference_point = [0.3, 0.52]     #   paper's pair or the truth of synthetic recordings
 //                                     #   (one value per [design] parameter, in its order)
 
+#include "cli/design_config.hpp"
 #include "cli/toml_reader.hpp"
 
 #include <cstdint>
@@ -45,6 +46,8 @@ struct CalibrationConfig {
   std::vector<double> reference_point;
 };
 
-std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file);
+// `design`: the study's, when it has one; the reference point must lie in its box.
+std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
+                                                  const std::optional<DesignConfig>& design = std::nullopt);
 
 }  // namespace demcal::cli

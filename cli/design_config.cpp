@@ -20,6 +20,10 @@ namespace {
 constexpr std::int64_t kMaxPoints = 100000;
 constexpr std::int64_t kMaxLevels = 1000;
 constexpr double kMaxFactorialPoints = 1e6;
+// Points x replicates (each apparatus runs them all). Planning builds the study
+// at every point (about 0.1 s each for a sandglass), so 5000 is minutes of
+// planning before anything runs; the largest design in studies/ has 208.
+constexpr double kMaxDesignRuns = 5000;
 
 std::string first_segment(const std::string& path) {
   return path.substr(0, std::min(path.find_first_of(".["), path.size()));
@@ -204,6 +208,19 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     d.fail("parameters", "the full factorial design has " + format_number(factorial_points) +
                              " points, more than " + format_number(kMaxFactorialPoints) +
                              "; use fewer levels or a latin_hypercube or sobol design");
+  // Every run is planned (its study built, its key hashed) before any runs: a
+  // design of 10^6 runs would take hours and gigabytes just to list.
+  {
+    const double points = factorial ? factorial_points
+                          : list    ? static_cast<double>(spec.values.size())
+                                    : static_cast<double>(spec.points);
+    const double runs = points * out.replicates;
+    if (runs > kMaxDesignRuns)
+      d.fail(factorial ? "parameters" : list ? "values" : "points",
+             "the design has " + format_number(points) + " points x " + std::to_string(out.replicates) +
+                 " replicates = " + format_number(runs) + " runs per apparatus, more than " +
+                 format_number(kMaxDesignRuns) + "; split it into several studies or use fewer points");
+  }
   if (sobol && spec.parameters.size() > surrogate::kSobolMaxDimensions)
     d.fail("parameters", "a sobol design takes at most " +
                              std::to_string(surrogate::kSobolMaxDimensions) + " parameters");
@@ -231,7 +248,9 @@ StudySource StudySource::read(const std::filesystem::path& path,
   StudySource s;
   s.file = path.string();
   std::ifstream in(path, std::ios::binary);
-  if (!in) read_config_file(path);  // throws its ConfigError ("cannot open ...")
+  std::error_code ec;
+  // read_config_file throws its ConfigError ("cannot open ...", "is a directory").
+  if (!in || std::filesystem::is_directory(path, ec)) read_config_file(path);
   std::ostringstream text;
   text << in.rdbuf();
   s.text = text.str();

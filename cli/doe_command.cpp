@@ -394,10 +394,17 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
   if (writes_table) {
     std::filesystem::create_directories(outcome.study_dir);
     remove_stale_temporaries(outcome.study_dir);
-    const DoeTable table = write_doe_table(plan, store, outcome.study_dir);
+    // --collect writes only a whole table: one with a row missing would replace
+    // the table the store was collected into before (a run file lost, a store
+    // not yet merged) with a less complete one.
+    const DoeTable table = write_doe_table(plan, store, outcome.study_dir, options.collect);
     outcome.missing = table.missing;
-    outcome.table_csv = outcome.study_dir / "doe.csv";
-    outcome.table_json = outcome.study_dir / "doe.json";
+    outcome.ok = table.ok;
+    outcome.table_written = !(options.collect && table.missing > 0);
+    if (outcome.table_written) {
+      outcome.table_csv = outcome.study_dir / "doe.csv";
+      outcome.table_json = outcome.study_dir / "doe.json";
+    }
   }
 
   // Summary.
@@ -412,7 +419,11 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
         << (outcome.not_run > 0 ? ", " + std::to_string(outcome.not_run) + " not run" : "")
         << " in " << seconds_text(seconds_since(start)) << "\n";
   if (group.rank == 0) out << "store: " << outcome.runs_dir.string() << "\n";
-  if (writes_table) {
+  if (writes_table && !outcome.table_written) {
+    out << "table: not written: " << outcome.missing << " of " << plan.rows.size()
+        << " rows have no run in the store " << outcome.runs_dir.string() << "; "
+        << (outcome.study_dir / "doe.csv").string() << " is left as it was\n";
+  } else if (writes_table) {
     out << "table: " << outcome.table_csv.string() << " (" << plan.rows.size() << " rows";
     if (outcome.missing > 0) out << ", " << outcome.missing << " without a result yet";
     out << ")\n";

@@ -106,6 +106,8 @@ struct DoeOutcome {
   std::size_t failed = 0;    // of the executed: stored as failed
   std::size_t not_run = 0;   // of the share: left undone (stopped, cancelled, an error)
   std::size_t missing = 0;   // table rows without a result (when a table was written)
+  std::size_t ok = 0;        // table rows with an ok result (when a table was made)
+  bool table_written = false;
   std::vector<std::string> executed_hashes;  // in the order stored
   bool complete() const { return not_run == 0 && missing == 0; }
 };

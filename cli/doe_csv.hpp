@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,10 +40,15 @@ struct DoeCsv {
 };
 
 DoeCsv read_doe_csv(const std::filesystem::path& path);
+// The same from a stream; `file` names it in messages (fuzzing, tests).
+DoeCsv read_doe_csv(std::istream& in, const std::string& file);
 
 // The text as a finite number when it is one written in full (no trailing
 // characters), else nullopt: empty, "abc", "1.5x", "inf".
 std::optional<double> parse_csv_number(const std::string& text);
+
+// `line` without a leading UTF-8 byte order mark (some editors write one).
+std::string without_bom(const std::string& line);
 
 // One CSV line split into fields (double-quoted fields may hold commas and "").
 std::vector<std::string> split_csv_line(const std::string& line);

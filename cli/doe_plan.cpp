@@ -2,6 +2,7 @@
 
 #include "cli/study_config.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <map>
 #include <optional>
@@ -66,6 +67,24 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
                         "runs the design it describes, " +
                         design_example());
     plan.design = *base.design;
+    // A --set of a design parameter would be overwritten at every design point.
+    for (const std::string& o : overrides) {
+      const std::string key = o.substr(0, std::min(o.find('='), o.size()));
+      const auto alias = study_override_aliases().find(key);
+      const std::string path = alias == study_override_aliases().end() ? key : alias->second;
+      const auto& params = plan.design.spec.parameters;
+      for (std::size_t i = 0; i < params.size(); ++i) {
+        bool tied = false;
+        if (i < plan.design.tied_paths.size())
+          for (const auto& t : plan.design.tied_paths[i]) tied = tied || t == path;
+        if (key == params[i].name || path == plan.design.parameter_paths[i] || tied)
+          throw ConfigError(plan.file + ":" + std::to_string(plan.design.parameter_lines[i]) +
+                            ": --set " + o + ": " + key + " is set by the design parameter " +
+                            params[i].name + " at every design point, so the --set would be "
+                            "ignored; change design.parameters." + params[i].name +
+                            " (lower, upper) instead");
+      }
+    }
     if (apparatus.empty()) {
       for (const StudyApparatus& a : base.apparatus) plan.apparatus.push_back(a.name);
     } else {

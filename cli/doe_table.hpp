@@ -44,8 +44,10 @@ DoeTable make_doe_table(const DoePlan& plan,
 // Loads each run of the plan from `store` (a file that is not a valid record
 // counts as missing) and writes doe.csv and doe.json into `study_dir`
 // atomically. Returns the table.
+// With `complete_only`, a table with rows still missing is returned but not
+// written (`demcal doe --collect` never replaces a table with a less complete one).
 DoeTable write_doe_table(const DoePlan& plan, const RunStore& store,
-                         const std::filesystem::path& study_dir);
+                         const std::filesystem::path& study_dir, bool complete_only = false);
 
 // A CSV field: quoted when it holds a comma, quote or line break.
 std::string csv_field(const std::string& text);

@@ -4,12 +4,16 @@
 #include "calibrate/report/labels.hpp"
 #include "cli/console.hpp"
 #include "cli/doe_csv.hpp"
+#include "cli/run_store.hpp"
 #include "cli/study_config.hpp"
+#include "cli/toml_reader.hpp"
 #include "cli/surrogate_config.hpp"
 #include "dem/output/atomic_file.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <set>
@@ -26,6 +30,39 @@ struct Campaign {
   fs::path dir;
   std::vector<double> lower, upper;
 };
+
+std::string point_text(const std::vector<std::string>& names, const std::vector<double>& values) {
+  std::string s;
+  for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
+    s += (s.empty() ? "" : ", ") + names[k] + " = " + reader::format_number(values[k]);
+  return s;
+}
+
+// Each row against the study's design: a point inside the design box,
+// replicates of one point at one place. (The setup name, which becomes a file
+// name, is checked by read_doe_csv.)
+void check_rows_against_study(const Campaign& c) {
+  std::map<std::pair<std::string, int>, const DoeCsvRow*> first_of_point;
+  for (const DoeCsvRow& r : c.table.rows) {
+    const std::string at = c.table.file + ":" + std::to_string(r.line) + ": ";
+    for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+      const double span = c.upper[k] - c.lower[k];
+      const double slack = 1e-9 * (std::fabs(span) + std::fabs(c.upper[k]) + std::fabs(c.lower[k]));
+      if (r.parameters[k] < c.lower[k] - slack || r.parameters[k] > c.upper[k] + slack)
+        throw ConfigError(at + "column " + c.table.parameter_names[k] + ": " +
+                          reader::format_number(r.parameters[k]) + " lies outside the design box [" +
+                          reader::format_number(c.lower[k]) + ", " + reader::format_number(c.upper[k]) +
+                          "] of " + c.study.file + " (the surrogates are valid inside it only)");
+    }
+    const auto [it, fresh] = first_of_point.try_emplace({r.apparatus, r.point}, &r);
+    if (!fresh && it->second->parameters != r.parameters)
+      throw ConfigError(at + "point " + std::to_string(r.point) + " replicate " + std::to_string(r.replicate) +
+                        " is at (" + point_text(c.table.parameter_names, r.parameters) + "), but line " +
+                        std::to_string(it->second->line) + " puts point " + std::to_string(r.point) + " at (" +
+                        point_text(c.table.parameter_names, it->second->parameters) +
+                        "); replicates of a point share its parameters");
+  }
+}
 
 Campaign load_campaign(const FitOptions& o) {
   Campaign c{load_study_config(o.study, o.overrides), {}, {}, {}, {}};
@@ -46,6 +83,7 @@ Campaign load_campaign(const FitOptions& o) {
     c.lower.push_back(params[k].lower);
     c.upper.push_back(params[k].upper);
   }
+  check_rows_against_study(c);
   return c;
 }
 
@@ -100,6 +138,19 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
     outcome.warnings.push_back(c.table.file + ": " + std::to_string(failed_rows) + " failed and " +
                                std::to_string(missing_rows) + " missing runs are left out of the fit");
   std::set<std::string> fitted_names;
+  // Every surrogate is written into a staging directory that replaces
+  // surrogates/ only once all are: a fit that fails halfway leaves the
+  // previous set whole (calibrate never sees a mixed one).
+  const fs::path final_dir = c.dir / "surrogates";
+  fs::create_directories(c.dir);
+  const fs::path staged = staging_directory(final_dir);
+  struct RemoveStaged {
+    fs::path dir;
+    ~RemoveStaged() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{staged};
   for (const auto& apparatus : apparatus_in(c.table)) {
     for (std::size_t k = 0; k < c.table.observable_names.size(); ++k) {
       const std::string& name = c.table.observable_names[k];
@@ -111,6 +162,21 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       std::size_t finite = 0;
       for (Eigen::Index i = 0; i < data.y.size(); ++i) finite += std::isfinite(data.y(i));
       if (finite == 0) continue;  // this apparatus does not measure it (a container has no discharge time)
+      // A column with one value throughout: nothing to fit (Q2 undefined), and
+      // the calibration could not move it.
+      {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (Eigen::Index i = 0; i < data.y.size(); ++i)
+          if (std::isfinite(data.y(i))) {
+            lo = std::min(lo, data.y(i));
+            hi = std::max(hi, data.y(i));
+          }
+        if (finite > 1 && lo == hi)
+          throw ConfigError(c.table.file + ": column " + name + ": every " + apparatus + " run gives " +
+                            reader::format_number(lo) +
+                            "; a constant cannot be fitted (its Q2 is undefined); leave the observable out "
+                            "of [surrogate] observables or check the runs");
+      }
       fitted_names.insert(name);
       surrogate::FittedSurrogate f;
       try {
@@ -119,12 +185,11 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
         throw ConfigError(c.table.file + ": " + apparatus + ": " + e.what());
       }
       const fs::path file = surrogate_file(c.dir, apparatus, name);
-      fs::create_directories(file.parent_path());
       nlohmann::json j = f.to_json();
       j["setup"] = apparatus;
       j["study"] = c.study.name;
       j["doe_csv"] = c.table.file;
-      dem::write_file_atomically(file, j.dump(1) + "\n");
+      dem::write_file_atomically(staged / file.filename(), j.dump(1) + "\n");
       outcome.files.push_back(file);
       if (!f.scatter_check.within_scatter)
         outcome.warnings.push_back(calibrate::humanize_identifiers(f.scatter_check.message));
@@ -144,6 +209,7 @@ FitOutcome fit(const FitOptions& o, std::ostream& out, std::ostream& log) {
       throw ConfigError(c.study.file + ": [surrogate] observables lists " + name + ", but no run in " +
                         c.table.file + " measured it");
   if (outcome.files.empty()) throw ConfigError(c.table.file + ": no observable with data to fit");
+  replace_directory(staged, final_dir);
   for (const auto& w : outcome.warnings) warn_once(log, w);
   for (const auto& f : outcome.files) out << "surrogate: " << f.string() << "\n";
   return outcome;
@@ -189,10 +255,16 @@ fs::path inspect(const FitOptions& o, std::ostream& out, std::ostream& log) {
   ro.parameter_names = c.table.parameter_names;
   ro.lower = c.lower;
   ro.upper = c.upper;
-  const auto files_out = calibrate::write_inspection_report(c.dir / "reports" / "inspection", list, ro);
+  // Written whole beside the previous report, then put in its place.
+  const fs::path report_dir = c.dir / "reports" / "inspection";
+  fs::create_directories(report_dir.parent_path());
+  const fs::path staged = staging_directory(report_dir);
+  const auto files_out = calibrate::write_inspection_report(staged, list, ro);
+  replace_directory(staged, report_dir);
+  const fs::path html = report_dir / fs::relative(files_out.html, staged);
   for (const auto& w : files_out.warnings) warn_once(log, w);
-  out << "inspection report: " << files_out.html.string() << "\n";
-  return files_out.html;
+  out << "inspection report: " << html.string() << "\n";
+  return html;
 }
 
 }  // namespace demcal::cli

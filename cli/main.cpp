@@ -176,6 +176,32 @@ int main(int argc, char** argv) {
                            std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
 
+  // A misspelt subcommand ("simulat") is named, with the closest one, rather
+  // than reported as a missing subcommand.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string given = argv[1];
+    std::string names, closest;
+    std::size_t best = std::string::npos;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      const std::string name = sub->get_name();
+      if (name == given) {
+        best = 0;
+        break;
+      }
+      names += (names.empty() ? "" : ", ") + name;
+      const std::size_t d = reader::edit_distance(given, name);
+      if (d < best) {
+        best = d;
+        closest = name;
+      }
+    }
+    if (best != 0) {
+      std::cerr << "demcal: error: unknown subcommand \"" << given << "\""
+                << (best <= 3 ? "; did you mean \"" + closest + "\"?" : "") << " (subcommands: " << names
+                << "; see demcal --help)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -230,6 +256,12 @@ int main(int argc, char** argv) {
       if (r.missing > 0) {
         std::cerr << "demcal doe: " << r.missing
                   << " rows of the table have no result in the store yet\n";
+        return 1;
+      }
+      // A campaign none of whose runs gave a result did not do what was asked.
+      if (!r.table_csv.empty() && r.ok == 0 && r.rows > 0) {
+        std::cerr << "demcal doe: every run of the table failed (see the errors in "
+                  << r.table_json.string() << "); no result to fit\n";
         return 1;
       }
       return 0;

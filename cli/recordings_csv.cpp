@@ -53,10 +53,15 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
                                                       const std::vector<std::string>& setups) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path.string() + ": cannot open the recordings file");
+  return read_recordings_csv(in, path, setups);
+}
+
+std::vector<calibrate::Recording> read_recordings_csv(std::istream& in, const std::filesystem::path& path,
+                                                      const std::vector<std::string>& setups) {
   std::string line;
   if (!std::getline(in, line)) fail(path, 1, "empty file; expected the header setup,observable,value,sigma,unit");
   std::vector<std::string> header;
-  for (const auto& h : split_csv_line(line)) header.push_back(trim(h));
+  for (const auto& h : split_csv_line(without_bom(line))) header.push_back(trim(h));
   std::vector<std::string> expected = {"setup", "observable", "value", "sigma", "unit"};
   const bool with_repeats = header.size() == 6 && header.back() == "repeats";
   if (with_repeats) expected.push_back("repeats");
@@ -83,9 +88,16 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
     if (std::find(names.begin(), names.end(), r.observable) == names.end())
       fail(path, n, "observable \"" + r.observable + "\" is not one demcal measures; expected one of " + joined(names));
     r.value = number(path, n, "value", f[2]);
+    if (!observable_in_range(r.observable, r.value))
+      fail(path, n, "value: expected " + observable_range_text(r.observable) + " for " + r.observable +
+                        ", got " + f[2]);
     if (f[3].empty()) fail(path, n, "sigma: missing; every recording needs its standard uncertainty (> 0)");
     r.sigma = number(path, n, "sigma", f[3]);
     if (!(r.sigma > 0.0)) fail(path, n, "sigma: expected a number > 0, got " + f[3]);
+    if (!observable_in_range(r.observable, r.sigma))
+      fail(path, n, "sigma: expected a number > 0 within " + observable_range_text(r.observable) +
+                        " (an uncertainty wider than the observable's physical range says nothing), got " +
+                        f[3]);
     r.unit = f[4];
     if (r.unit != unit_of_observable(r.observable))
       fail(path, n, "unit \"" + r.unit + "\" does not fit " + r.observable + "; expected \"" +
@@ -107,9 +119,14 @@ std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::pat
 calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path, const std::string& setup) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path.string() + ": cannot open the series file");
+  return read_series_csv(in, path, setup);
+}
+
+calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesystem::path& path,
+                                          const std::string& setup) {
   std::string line;
   if (!std::getline(in, line)) fail(path, 1, "empty file; expected the header time_s,<quantity>");
-  auto header = split_csv_line(line);
+  auto header = split_csv_line(without_bom(line));
   for (auto& h : header) h = trim(h);
   if (header.size() != 2 || header[0] != "time_s" || header[1].empty())
     fail(path, 1, "expected the header time_s,<quantity> (e.g. time_s,discharged_mass_kg)");
@@ -124,6 +141,7 @@ calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path, con
     auto f = split_csv_line(line);
     if (f.size() != 2) fail(path, n, "expected 2 fields, got " + std::to_string(f.size()));
     const double t = number(path, n, "time_s", trim(f[0]));
+    if (t < 0.0) fail(path, n, "time_s: expected a number >= 0 (time since the orifice opened), got " + trim(f[0]));
     if (!s.time_s.empty() && !(t > s.time_s.back())) fail(path, n, "time_s must increase");
     s.time_s.push_back(t);
     s.value.push_back(number(path, n, header[1], trim(f[1])));

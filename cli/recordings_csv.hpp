@@ -18,6 +18,7 @@
 #include "calibrate/recording.hpp"
 
 #include <filesystem>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,13 @@ namespace demcal::cli {
 // `setups`: the study's apparatus names.
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
                                                       const std::vector<std::string>& setups);
+// The same from a stream; `file` names it in messages (fuzzing, tests).
+std::vector<calibrate::Recording> read_recordings_csv(std::istream& in, const std::filesystem::path& file,
+                                                      const std::vector<std::string>& setups);
 
 calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path, const std::string& setup);
+calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesystem::path& path,
+                                          const std::string& setup);
 
 // "deg" for angle_of_repose_deg, ...; throws std::out_of_range for an unknown observable.
 const std::string& unit_of_observable(const std::string& observable);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <fstream>
 #include <sstream>
 
 namespace demcal::cli {
@@ -165,6 +166,43 @@ const std::vector<std::string>& observable_names() {
   return names;
 }
 
+namespace {
+struct ObservableRange {
+  const char* name;
+  double lo, hi;
+  bool lo_open;
+  const char* text;
+};
+// Times up to 1e5 s (a day of discharge is no laboratory test); flow rates up to 1e4 kg/s;
+// bulk densities as material densities (up to 3e4 kg/m3).
+constexpr ObservableRange kObservableRanges[] = {
+    {"angle_of_repose_deg", 0.0, 90.0, false, "a number in [0, 90] (degrees)"},
+    {"discharge_time_s", 0.0, 1e5, true, "a number in (0, 1e5] (seconds)"},
+    {"mass_flow_rate_kg_s", 0.0, 1e4, false, "a number in [0, 1e4] (kg/s)"},
+    {"bulk_density_kg_m3", 0.0, 3e4, true, "a number in (0, 3e4] (kg/m3)"},
+    {"discharge_t25_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"},
+    {"discharge_t50_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"},
+    {"discharge_t75_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"}};
+
+const ObservableRange* range_of(const std::string& observable) {
+  for (const ObservableRange& r : kObservableRanges)
+    if (observable == r.name) return &r;
+  return nullptr;
+}
+}  // namespace
+
+std::string observable_range_text(const std::string& observable) {
+  const ObservableRange* r = range_of(observable);
+  return r ? r->text : "a finite number";
+}
+
+bool observable_in_range(const std::string& observable, double value) {
+  if (!std::isfinite(value)) return false;
+  const ObservableRange* r = range_of(observable);
+  if (r == nullptr) return true;
+  return (r->lo_open ? value > r->lo : value >= r->lo) && value <= r->hi;
+}
+
 nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::json& observables) {
   nlohmann::json out = nlohmann::json::object();
   for (const auto& name : series_observable_names()) out[name] = nullptr;
@@ -243,6 +281,27 @@ void prepare_output_directory(const std::filesystem::path& output_dir, bool over
 void write_run_record(const std::filesystem::path& output_dir, const nlohmann::json& record) {
   std::filesystem::create_directories(output_dir);
   dem::write_file_atomically(run_record_path(output_dir), record.dump(2) + "\n");
+}
+
+std::filesystem::path write_failed_run_record(const std::filesystem::path& output_dir,
+                                              const nlohmann::json& record) {
+  const std::filesystem::path previous = run_record_path(output_dir);
+  bool previous_is_good = false;
+  if (std::ifstream in(previous, std::ios::binary); in) {
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    const nlohmann::json* why = nullptr;
+    if (j.is_object() && j.contains("results") && j["results"].is_object() &&
+        j["results"].contains("stopped_because"))
+      why = &j["results"]["stopped_because"];
+    previous_is_good = why != nullptr && why->is_string() && *why != "error";
+  }
+  if (!previous_is_good) {
+    write_run_record(output_dir, record);
+    return previous;
+  }
+  const std::filesystem::path failed = output_dir / "run.failed.json";
+  dem::write_file_atomically(failed, record.dump(2) + "\n");
+  return failed;
 }
 
 std::unique_ptr<dem::VtkSeries> open_vtk_series(const std::filesystem::path& dir, bool enabled,

@@ -66,6 +66,11 @@ const std::vector<std::string>& series_observable_names();
 // The stable names, then the series ones: what a design table, a recording or a
 // surrogate may name.
 const std::vector<std::string>& observable_names();
+// The physical range of an observable, as words ("a number in [0, 90] (degrees)"),
+// and whether `value` lies in it: a recording, a design-table cell or a stored
+// run outside it is refused (an AoR of 200 deg, a negative time, 1e308 kg/m3).
+std::string observable_range_text(const std::string& observable);
+bool observable_in_range(const std::string& observable, double value);
 // The series observables of a run record's "series" and "observables" (see above).
 nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::json& observables);
 // `observables` with every stable name present (null where not measured).
@@ -83,5 +88,11 @@ void prepare_output_directory(const std::filesystem::path& output_dir, bool over
 
 // Writes <output_dir>/run.json atomically.
 void write_run_record(const std::filesystem::path& output_dir, const nlohmann::json& record);
+
+// The record of a run that failed: into run.json, unless run.json holds a run
+// that did not fail (an --overwrite that failed must not replace a good result);
+// then into run.failed.json beside it. Returns the file written.
+std::filesystem::path write_failed_run_record(const std::filesystem::path& output_dir,
+                                              const nlohmann::json& record);
 
 }  // namespace demcal::cli

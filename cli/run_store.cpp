@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -16,6 +17,7 @@
 #include <stdexcept>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 namespace demcal::cli {
 namespace {
@@ -239,6 +241,53 @@ void write_file_durably(const std::filesystem::path& file, std::string_view cont
   if (::rename(tmp.c_str(), file.c_str()) != 0) throw fail("rename", errno);
 }
 
+std::string directory_digest(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<fs::path> files;
+  if (fs::is_directory(dir, ec))
+    for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_regular_file(ec)) files.push_back(it->path());
+  std::sort(files.begin(), files.end());
+  std::string all;
+  for (const fs::path& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    all += fs::relative(f, dir, ec).generic_string();
+    all += '\n';
+    all += sha256_hex(text.str());
+    all += '\n';
+  }
+  return sha256_hex(all);
+}
+
+std::filesystem::path staging_directory(const std::filesystem::path& target) {
+  // Built by appending: GCC 12 gives a false -Wrestrict on "." + std::string&&.
+  std::string name(1, '.');
+  name += target.filename().string();
+  name += ".staging.";
+  name += std::to_string(getpid());
+  const std::filesystem::path staged = target.parent_path() / name;
+  std::filesystem::remove_all(staged);
+  std::filesystem::create_directories(staged);
+  return staged;
+}
+
+void replace_directory(const std::filesystem::path& staged, const std::filesystem::path& target) {
+  namespace fs = std::filesystem;
+  std::string name(1, '.');
+  name += target.filename().string();
+  name += ".old.";
+  name += std::to_string(getpid());
+  const fs::path old = target.parent_path() / name;
+  fs::remove_all(old);
+  std::error_code ec;
+  if (fs::exists(target, ec)) fs::rename(target, old);
+  fs::rename(staged, target);
+  fs::remove_all(old, ec);
+}
+
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir) {
   std::size_t removed = 0;
   std::error_code ec;
@@ -259,18 +308,13 @@ std::filesystem::path RunStore::file_for(const std::string& hash) const {
   return dir_ / (hash + ".json");
 }
 
-std::optional<nlohmann::json> RunStore::load(const std::string& hash, const std::string& digest,
-                                             std::string* problem) const {
-  const std::filesystem::path path = file_for(hash);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream text;
-  text << in.rdbuf();
+std::optional<nlohmann::json> parse_run_record(std::string_view text, const std::string& digest,
+                                               std::string* problem) {
   auto bad = [&](const std::string& why) -> std::optional<nlohmann::json> {
-    if (problem != nullptr) *problem = path.string() + ": " + why;
+    if (problem != nullptr) *problem = why;
     return std::nullopt;
   };
-  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object()) return bad("not a JSON object");
   const auto design = j.find("design");
   if (design == j.end() || !design->is_object()) return bad("no \"design\" block");
@@ -280,12 +324,76 @@ std::optional<nlohmann::json> RunStore::load(const std::string& hash, const std:
   const auto status = design->find("status");
   if (status == design->end() || !status->is_string() || (*status != "ok" && *status != "failed"))
     return bad("design.status is neither \"ok\" nor \"failed\"");
+  // Records written since the content digest exists carry it: a hand edit shows.
+  if (const auto content = design->find("content_digest"); content != design->end())
+    if (!content->is_string() || *content != record_content_digest(j))
+      return bad("design.content_digest does not match the record: it was changed after it was written");
+  // What a design table reads from a record must be what a run writes.
+  const auto observables = j.find("observables");
+  if (*status == "ok" && (observables == j.end() || !observables->is_object()))
+    return bad("an \"ok\" record without an \"observables\" object");
+  if (observables != j.end()) {
+    if (!observables->is_object()) return bad("\"observables\" is not an object");
+    for (const auto& name : observable_names()) {
+      const auto v = observables->find(name);
+      if (v == observables->end() || v->is_null()) continue;
+      if (!v->is_number() || !observable_in_range(name, v->get<double>()))
+        return bad("observables." + name + " is " + v->dump() + "; expected null or " +
+                   observable_range_text(name));
+    }
+  }
+  if (const auto series = j.find("series"); series != j.end()) {
+    if (!series->is_object()) return bad("\"series\" is not an object");
+    if (const auto m = series->find("discharged_mass"); m != series->end()) {
+      auto numbers = [&](const char* key) {
+        const auto a = m->is_object() ? m->find(key) : m->end();
+        if (a == m->end() || !a->is_array()) return false;
+        for (const auto& x : *a)
+          if (!x.is_number() || !std::isfinite(x.get<double>())) return false;
+        return true;
+      };
+      if (!numbers("time_s") || !numbers("mass_kg") || m->at("time_s").size() != m->at("mass_kg").size())
+        return bad("series.discharged_mass is not two arrays of numbers of one length, time_s and mass_kg");
+    }
+  }
   return j;
+}
+
+std::string record_content_digest(const nlohmann::json& record) {
+  nlohmann::json copy = record;
+  if (copy.is_object()) {
+    // What differs between two identical runs (the clock, the path the study
+    // was given as) is left out, so that their records keep one digest.
+    copy.erase("written_utc");
+    copy.erase("config_file");
+    if (copy.contains("design") && copy["design"].is_object()) copy["design"].erase("content_digest");
+    if (copy.contains("results") && copy["results"].is_object()) {
+      copy["results"].erase("wall_time_s");
+      copy["results"].erase("particle_steps_per_s");
+    }
+  }
+  return sha256_hex(canonical_json(copy));
+}
+
+std::optional<nlohmann::json> RunStore::load(const std::string& hash, const std::string& digest,
+                                             std::string* problem) const {
+  const std::filesystem::path path = file_for(hash);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string why;
+  auto record = parse_run_record(text.str(), digest, &why);
+  if (!record && problem != nullptr) *problem = path.string() + ": " + why;
+  return record;
 }
 
 void RunStore::store(const std::string& hash, const nlohmann::json& record) const {
   std::filesystem::create_directories(dir_);
-  write_file_durably(file_for(hash), record.dump(2) + "\n");
+  nlohmann::json sealed = record;
+  if (sealed.contains("design") && sealed["design"].is_object())
+    sealed["design"]["content_digest"] = record_content_digest(sealed);
+  write_file_durably(file_for(hash), sealed.dump(2) + "\n");
 }
 
 }  // namespace demcal::cli

@@ -154,7 +154,7 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
     // The record of a failed run is still evidence; a failure to write it must
     // not hide the original error.
     try {
-      write_run_record(dir, make_run_record(cfg, res));
+      write_failed_run_record(dir, make_run_record(cfg, res));
     } catch (const std::exception&) {
     }
     throw;

@@ -1,9 +1,11 @@
 #include "cli/study_config.hpp"
 
 #include "cli/calibration_config.hpp"
+#include "cli/run_sanity.hpp"
 #include "cli/surrogate_config.hpp"
 
 #include "dem/apparatus/conical_pile.hpp"
+#include "dem/contact/restitution_damping.hpp"
 #include "dem/apparatus/rectangular_container.hpp"
 #include "dem/apparatus/sandglass.hpp"
 
@@ -86,49 +88,69 @@ dem::ModelReduction read_reduction(Table& t, bool slice_applies) {
 
 const Range kPositive = above(0);
 const Range kHalfAngle = between(0, true, 80, true);
+// A dimension of a laboratory test: positive, and at most kMaxApparatusExtent_m
+// (a 1e6 m chamber is a slip, and its fill lattice alone would not fit in memory).
+constexpr Plausible kMaxLength{kMaxApparatusExtent_m, "no laboratory test is larger"};
 
-std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m,
+std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m, double max_steps,
                                                const dem::RunProtocol& p) {
   dem::SandglassOptions o;
-  o.upper_diameter_m = t.number("upper_diameter_m", kPositive);
-  o.upper_height_m = t.number("upper_height_m", kPositive);
+  o.upper_diameter_m = t.number_at_most("upper_diameter_m", kPositive, kMaxLength);
+  o.upper_height_m = t.number_at_most("upper_height_m", kPositive, kMaxLength);
   o.bottom = t.choice("bottom", {"flat", "conical"});
   if (o.bottom == "conical" || t.has("hopper_half_angle_deg"))
     o.hopper_half_angle_deg = t.number("hopper_half_angle_deg", kHalfAngle);
-  o.orifice_diameter_m = t.number("orifice_diameter_m", kPositive);
+  o.orifice_diameter_m = t.number_at_most("orifice_diameter_m", kPositive, kMaxLength);
+  if (o.bottom == "conical")
+    check_cone_height(t, "hopper_half_angle_deg", o.upper_diameter_m, o.orifice_diameter_m,
+                      o.hopper_half_angle_deg);
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
-  o.lower_diameter_m = t.number("lower_diameter_m", kPositive);
-  o.drop_height_m = t.number("drop_height_m", kPositive);
+  o.lower_diameter_m = t.number_at_most("lower_diameter_m", kPositive, kMaxLength);
+  // Refused here, naming both: the engine's message names lower_diameter_m
+  // first, which blames it when upper_diameter_m is the one too large.
+  if (o.lower_diameter_m < o.upper_diameter_m)
+    t.fail_here("upper_diameter_m = " + format_number(o.upper_diameter_m) +
+                " exceeds lower_diameter_m = " + format_number(o.lower_diameter_m) +
+                ": the lower chamber must be at least as wide as the upper one (one of the two "
+                "is wrong)");
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
   o.form_pile = t.boolean_or("form_pile", o.form_pile);
   o.fill_lattice_spacing_diameters = t.number_or("fill_lattice_spacing_diameters",
                                                  o.fill_lattice_spacing_diameters,
                                                  between(1, true, 3, false));
   o.reduction = read_reduction(t, true);
   t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
 }
 
-std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m,
+std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m, double max_steps,
                                                   const dem::RunProtocol& p) {
   dem::ConicalPileOptions o;
-  o.funnel_top_diameter_m = t.number("funnel_top_diameter_m", kPositive);
-  o.funnel_outlet_diameter_m = t.number("funnel_outlet_diameter_m", kPositive);
+  o.funnel_top_diameter_m = t.number_at_most("funnel_top_diameter_m", kPositive, kMaxLength);
+  o.funnel_outlet_diameter_m = t.number_at_most("funnel_outlet_diameter_m", kPositive, kMaxLength);
   o.funnel_half_angle_deg = t.number("funnel_half_angle_deg", kHalfAngle);
-  o.feed_height_m = t.number("feed_height_m", kPositive);
-  o.drop_height_m = t.number("drop_height_m", kPositive);
-  o.base_diameter_m = t.number("base_diameter_m", kPositive);
+  check_cone_height(t, "funnel_half_angle_deg", o.funnel_top_diameter_m, o.funnel_outlet_diameter_m,
+                    o.funnel_half_angle_deg);
+  o.feed_height_m = t.number_at_most("feed_height_m", kPositive, kMaxLength);
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
+  o.base_diameter_m = t.number_at_most("base_diameter_m", kPositive, kMaxLength);
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
   o.reduction = read_reduction(t, true);
   t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
 }
 
 std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
                                                            const dem::GranularMaterial& m,
+                                                           double max_steps,
                                                            const dem::RunProtocol& p) {
   dem::RectangularContainerOptions o;
-  o.width_m = t.number("width_m", kPositive);
-  o.height_m = t.number("height_m", kPositive);
+  o.width_m = t.number_at_most("width_m", kPositive, kMaxLength);
+  o.height_m = t.number_at_most("height_m", kPositive, kMaxLength);
   const bool has_m = t.has("thickness_m");
   const bool has_d = t.has("thickness_diameters");
   if (!has_m && !has_d)
@@ -137,7 +159,7 @@ std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
            "(a number > 0)");
   if (has_m && has_d)
     t.fail("thickness_diameters", "give thickness_m or thickness_diameters, not both");
-  if (has_m) o.thickness_m = t.number("thickness_m", kPositive);
+  if (has_m) o.thickness_m = t.number_at_most("thickness_m", kPositive, kMaxLength);
   if (has_d) o.thickness_diameters = t.number("thickness_diameters", kPositive);
   o.boundary = t.choice("boundary", {"walls", "periodic"});
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
@@ -147,6 +169,8 @@ std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
   o.median_band_diameters = t.number_or("median_band_diameters", 2.0, kPositive);
   o.reduction = read_reduction(t, false);
   t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::RectangularContainer>(o, m, p); });
 }
 
@@ -235,6 +259,13 @@ StudyConfig build_study(ConfigDocument&& doc) {
     const dem::InteractionParameters p = read_interaction(t);
     t.finish();
     guarded(t, [&] { p.validate(t.path() + ": "); });
+    // The exact model's damping is found by a root search that resolves
+    // restitutions down to smallest_resolved_restitution() only.
+    if (material.restitution_model == dem::RestitutionModel::kExact) try {
+        (void)dem::damping_beta_for_restitution(p.restitution);
+      } catch (const std::invalid_argument& e) {
+        t.fail("restitution", e.what());
+      }
     (std::string(pair) == "particle_particle" ? material.particle_particle
                                               : material.particle_wall) = p;
     if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
@@ -262,6 +293,10 @@ StudyConfig build_study(ConfigDocument&& doc) {
   protocol.time_step_fraction_of_rayleigh =
       prot_t.number_or("time_step_fraction_of_rayleigh", defaults.time_step_fraction_of_rayleigh,
                        between(0, true, 1, false));
+  // Not written in when absent: the runs of studies without it keep their hashes.
+  const double max_steps =
+      prot_t.has("max_steps") ? prot_t.number("max_steps", at_least(1)) : kDefaultMaxSteps;
+  check_rest_protocol(prot_t, protocol, material);
   prot_t.finish();
 
   // [apparatus.*]: a table named after its kind ([apparatus.sandglass]), or
@@ -300,11 +335,12 @@ StudyConfig build_study(ConfigDocument&& doc) {
     a.kind = kind;
     a.line = t.line();
     if (kind == "sandglass")
-      a.apparatus = read_sandglass(t, material, protocol);
+      a.apparatus = read_sandglass(t, material, max_steps, protocol);
     else if (kind == "conical_pile")
-      a.apparatus = read_conical_pile(t, material, protocol);
+      a.apparatus = read_conical_pile(t, material, max_steps, protocol);
     else
-      a.apparatus = read_rectangular_container(t, material, protocol);
+      a.apparatus = read_rectangular_container(t, material, max_steps, protocol);
+    check_apparatus_extent(t, *a.apparatus);
     out.apparatus.push_back(std::move(a));
   }
   std::stable_sort(out.apparatus.begin(), out.apparatus.end(),
@@ -326,7 +362,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // [surrogate]
   out.surrogate = read_surrogate(root);
   // [calibration]
-  out.calibration = read_calibration(root, doc.file);
+  out.calibration = read_calibration(root, doc.file, out.design);
   // [diagnosis]
   {
     std::vector<std::string> setups;

@@ -85,6 +85,15 @@
 //   sample_interval_s = 0.005             # m(t) sampling (> 0)
 //   stall_time_s = 0.1                    # the flow has stopped when nothing passed for this (> 0)
 //   time_step_fraction_of_rayleigh = 0.2  # (0, 1]
+//   max_steps = 1e10                      # opt (not written in when absent): a run whose
+//                                         #   estimated steps exceed it is refused before it
+//                                         #   starts (cli/run_sanity.hpp)
+//   The physical sanity rules of cli/run_sanity.hpp apply on top of each key's range:
+//   check_interval_s >= rest_speed_m_s / g; rest_speed_m_s at most the speed of a grain
+//   fallen a tenth of its diameter; at most 10 % overlap in a 1 m/s collision; the step
+//   estimate. Densities are at most 3e4 kg/m3, moduli 1e13 Pa, friction coefficients 10,
+//   apparatus lengths 100 m (a cone's height too); restitution with the exact model at
+//   least dem::smallest_resolved_restitution() (~2.5e-7).
 //
 //   Several setups of one kind: name the table freely and give its kind,
 //     [apparatus.orifice_16mm]

@@ -129,20 +129,26 @@ std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
       s.finish();
       out = guarded(s, [&] { return dem::make_uniform_about_mean(mean, w); });
     } else {
-      const auto [lo, hi] = bounds();
+      // Not a structured binding: clang 14 cannot capture one in the lambda below.
+      const std::pair<double, double> range = bounds();
+      const double lo = range.first, hi = range.second;
       s.finish();
       out = guarded(s, [&] { return dem::make_uniform(lo, hi); });
     }
   } else if (dist == "truncated_normal") {
     const double mean = s.number("mean_diameter_m", above(0));
     const double sd = s.number("std_dev_m", at_least(0));
-    const auto [lo, hi] = bounds();
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::pair<double, double> range = bounds();
+    const double lo = range.first, hi = range.second;
     s.finish();
     out = guarded(s, [&] { return dem::make_truncated_normal(mean, sd, lo, hi); });
   } else if (dist == "log_normal") {
     const double median = s.number("median_diameter_m", above(0));
     const double sigma = s.number("sigma_ln", at_least(0));
-    const auto [lo, hi] = bounds();
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::pair<double, double> range = bounds();
+    const double lo = range.first, hi = range.second;
     s.finish();
     out = guarded(s, [&] { return dem::make_log_normal(median, sigma, lo, hi); });
   } else {
@@ -153,32 +159,42 @@ std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
   return out;
 }
 
+std::string file_name_problem(std::string_view name) {
+  if (name.empty()) return "it is empty";
+  if (name == "." || name == "..") return name == "." ? "\".\" names a directory" : "\"..\" names a directory";
+  for (const char c : name) {
+    if (c == '/' || c == '\\') return "it holds a path separator";
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "it holds a control character";
+  }
+  if (name.find("..") != std::string::npos) return "it holds \"..\"";
+  return "";
+}
+
 std::string read_run_name(Table& t, std::string_view key) {
   std::string name = t.string(key);
-  if (name.empty() || name == "." || name == ".." ||
-      name.find_first_of("/\\") != std::string::npos)
+  if (!file_name_problem(name).empty())
     t.fail(key, "expected a non-empty name without '/' (it names the output directory), got \"" +
                     name + "\"");
   return name;
 }
 
 void read_material_properties(Table& t, dem::Material& m) {
-  m.density_kg_m3 = t.number("density_kg_m3", above(0));
+  m.density_kg_m3 = t.number_at_most("density_kg_m3", above(0), kMaxDensity);
   const bool has_e = t.has("youngs_modulus_pa");
   const bool has_g = t.has("shear_modulus_pa");
   if (!has_e && !has_g)
     t.fail("youngs_modulus_pa",
            "missing required key; expected a number > 0 (or give shear_modulus_pa)");
-  if (has_e) m.youngs_modulus_pa = t.number("youngs_modulus_pa", above(0));
-  if (has_g) m.shear_modulus_pa = t.number("shear_modulus_pa", above(0));
+  if (has_e) m.youngs_modulus_pa = t.number_at_most("youngs_modulus_pa", above(0), kMaxModulus);
+  if (has_g) m.shear_modulus_pa = t.number_at_most("shear_modulus_pa", above(0), kMaxModulus);
   m.poisson_ratio = t.number("poisson_ratio", between(-1, true, 0.5, true));
 }
 
 dem::InteractionParameters read_interaction(Table& t) {
   dem::InteractionParameters p;
   p.restitution = t.number("restitution", between(0, true, 1, false));
-  p.sliding_friction = t.number("sliding_friction", at_least(0));
-  p.rolling_friction = t.number("rolling_friction", at_least(0));
+  p.sliding_friction = t.number_at_most("sliding_friction", at_least(0), kMaxFriction);
+  p.rolling_friction = t.number_at_most("rolling_friction", at_least(0), kMaxFriction);
   p.rolling_stiffness_factor = t.number_or("rolling_stiffness_factor", 2.25, above(0));
   p.rolling_damping_ratio = t.number_or("rolling_damping_ratio", 0.3, at_least(0));
   // Not written in when absent: configs without adhesion resolve (and hash) as before.
@@ -266,10 +282,19 @@ ConfigDocument parse_config_string(std::string_view text, const std::string& fil
                       std::to_string(e.source().begin.column) +
                       ": TOML syntax error: " + std::string(e.description()));
   }
+  if (doc.table.empty())
+    throw ConfigError(file_name +
+                      ":1: the config is empty (no keys, no tables); expected a study config "
+                      "([study], [material], [wall_material], [contact], [interaction], "
+                      "[apparatus.<name>]) or a simulation config ([simulation], ...)");
   return doc;
 }
 
 ConfigDocument read_config_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path.string() + ": is a directory; expected a TOML config file (e.g. " +
+                      (path / "study.toml").string() + ")");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ConfigError(path.string() + ": cannot open the config file (" + std::strerror(errno) +

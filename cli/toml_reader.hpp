@@ -110,6 +110,18 @@ struct Range {
   }
 };
 
+// Physical bounds of material and contact inputs: beyond them a value is a
+// slip (1e6 for a friction coefficient, 1e308 kg/m3), not a material. They are
+// checked after the key's own range (whose messages stay as they were), with
+// the reason: Table::number_at_most.
+struct Plausible {
+  double max;
+  const char* why;
+};
+inline constexpr Plausible kMaxDensity{3e4, "no material is denser; osmium: 22 590 kg/m3"};
+inline constexpr Plausible kMaxModulus{1e13, "no material is stiffer; diamond: 1.2e12 Pa"};
+inline constexpr Plausible kMaxFriction{10, "a friction coefficient above 10 is a slip"};
+
 inline Range any_number() { return {}; }
 inline Range at_least(double lo) { return {lo, kInf, false, false}; }
 inline Range above(double lo) { return {lo, kInf, true, false}; }
@@ -179,6 +191,13 @@ class Table {
   const std::vector<std::string>& known_keys() const { return known_; }
 
   double number(std::string_view key, Range r) { return as_number(require(key, r.text()), key, r); }
+  // number(), then at most `p.max` (a physical bound, refused with its reason).
+  double number_at_most(std::string_view key, Range r, Plausible p) {
+    const double v = number(key, r);
+    if (v > p.max)
+      fail(key, "expected at most " + format_number(p.max) + " (" + p.why + "), got " + format_number(v));
+    return v;
+  }
   double number_or(std::string_view key, double fallback, Range r) {
     if (const toml::node* n = lookup(key)) return as_number(*n, key, r);
     if (std::isfinite(fallback)) t_->insert_or_assign(key, fallback);
@@ -389,6 +408,11 @@ class Table {
   }
   double as_number(const toml::node& n, std::string_view key, const Range& r) const {
     std::optional<double> v;
+    // 0x10, 0o20 and 0b10000 are TOML integers, but a physical quantity written
+    // so is a slip (0x10 reads as 16): numbers are taken in decimal only.
+    if (n.is_integer() && n.as_integer()->flags() != toml::value_flags::none)
+      fail(key, "expected " + r.text() + " written in decimal, got " + describe_value(n) +
+                    " written in hexadecimal, octal or binary");
     if (n.is_integer())
       v = static_cast<double>(*n.value<std::int64_t>());
     else if (n.is_floating_point())
@@ -461,8 +485,14 @@ void require_above(Table& t, std::string_view upper_key, const Vec3& lower, cons
 // A size table: { distribution = "...", <that distribution's keys> }.
 std::unique_ptr<dem::SizeDistribution> read_size(Table& s);
 
+// Why `name` cannot be one component of a file name (empty, "." or "..", a
+// path separator, "..", a NUL or other control character), or "" when it can.
+// Every name that becomes part of a file name is checked with it.
+std::string file_name_problem(std::string_view name);
+
 // A name that also names an output directory: non-empty, no '/'.
 std::string read_run_name(Table& t, std::string_view key);
+
 
 // The schema pieces both config kinds share. Each reads its keys (the caller
 // reads any others, e.g. a material's name, and calls finish()) and checks

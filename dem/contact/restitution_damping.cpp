@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 namespace demcal::dem {
@@ -46,13 +47,25 @@ double restitution_for_damping_beta(double beta) {
   return 0.0;
 }
 
+double smallest_resolved_restitution() {
+  static const double e = restitution_for_damping_beta(kMaxResolvedDampingBeta);
+  return e;
+}
+
 double damping_beta_for_restitution(double restitution) {
   if (!(restitution > 0.0 && restitution <= 1.0))
     throw std::invalid_argument("restitution must lie in (0, 1]");
   if (restitution == 1.0) return 0.0;
+  if (restitution < smallest_resolved_restitution()) {
+    std::ostringstream s;
+    s << "restitution " << restitution << " is below the smallest the exact restitution model resolves ("
+      << smallest_resolved_restitution() << "); give at least that (or restitution_model = "
+      << "\"linear_spring_formula\")";
+    throw std::invalid_argument(s.str());
+  }
   double lo = 0.0;
   double hi = 1.0;
-  while (restitution_for_damping_beta(hi) > restitution) hi *= 2.0;
+  while (restitution_for_damping_beta(hi) > restitution) hi = std::min(2.0 * hi, kMaxResolvedDampingBeta);
   for (int it = 0; it < 60 && hi - lo > 1e-12; ++it) {
     const double mid = 0.5 * (lo + hi);
     if (restitution_for_damping_beta(mid) > restitution)

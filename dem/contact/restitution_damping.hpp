@@ -11,7 +11,16 @@ namespace demcal::dem {
 // The restitution a Hertzian collision with damping parameter beta >= 0 yields.
 double restitution_for_damping_beta(double beta);
 
-// The damping parameter beta that yields restitution e in (0, 1].
+// The largest damping parameter the integration above resolves: beyond it
+// the collision is stiffer than its step (about beta = 5e4 the computed e
+// grows again), so a root search there never ends.
+inline constexpr double kMaxResolvedDampingBeta = 1000.0;
+
+// The smallest restitution the exact model reaches: e(kMaxResolvedDampingBeta), ~2.4e-7.
+double smallest_resolved_restitution();
+
+// The damping parameter beta that yields restitution e in [smallest_resolved_restitution(), 1];
+// a smaller e (but > 0) throws std::invalid_argument naming that bound.
 double damping_beta_for_restitution(double restitution);
 
 // The linear-spring formula beta = -ln e / sqrt(ln^2 e + pi^2).
