@@ -26,7 +26,9 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
       body(0, std::size_t{0}, n);
       return;
     }
-    team->run([&](int m) { body(m, ThreadTeam::split(n, members, m), ThreadTeam::split(n, members, m + 1)); });
+    team->run([&](int m) {
+      body(m, ThreadTeam::split(n, members, m), ThreadTeam::split(n, members, m + 1));
+    });
   };
   ++builds_;
 
@@ -59,8 +61,7 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   for (int oz = -1; oz <= 1; ++oz)
     for (int oy = -1; oy <= 1; ++oy)
       for (int ox = -1; ox <= 1; ++ox)
-        shift_table_[shift_code(ox, oy, oz)] =
-            Vec3{ox * length.x, oy * length.y, oz * length.z};
+        shift_table_[shift_code(ox, oy, oz)] = Vec3{ox * length.x, oy * length.y, oz * length.z};
 
   // Counting sort of particles into cells (serial: O(n), negligible).
   cell_of_.resize(n);
@@ -80,7 +81,8 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   cell_particles_.resize(n);
   {
     std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cell_particles_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < n; ++i)
+      cell_particles_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   }
 
   // Visits the candidate neighbours j > i of particle i with their image code.
@@ -108,7 +110,8 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
           if (!valid) continue;
           // With a single cell along a periodic axis, offsets -1, 0, +1 reach the
           // same cell through different images; all three are distinct shifts.
-          const std::size_t cell = cc[0] + nc[0] * (cc[1] + static_cast<std::size_t>(nc[1]) * cc[2]);
+          const std::size_t cell =
+              cc[0] + nc[0] * (cc[1] + static_cast<std::size_t>(nc[1]) * cc[2]);
           const int code = shift_code(img[0], img[1], img[2]);
           const Vec3& s = shift_table_[code];
           for (std::uint32_t q = cell_start_[cell]; q < cell_start_[cell + 1]; ++q) {
@@ -125,7 +128,8 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
 
   // One search: each member lists the pairs of its particles into its own
   // buffers, which are then laid end to end in member order.
-  if (found_.size() < static_cast<std::size_t>(members)) found_.resize(static_cast<std::size_t>(members));
+  if (found_.size() < static_cast<std::size_t>(members))
+    found_.resize(static_cast<std::size_t>(members));
   count_.assign(n + 1, 0);
   for_each_member([&](int m, std::size_t begin, std::size_t end) {
     Found& f = found_[static_cast<std::size_t>(m)];

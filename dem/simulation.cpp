@@ -19,7 +19,8 @@ Simulation::Simulation(SimulationOptions options)
   options_.domain.validate();
   if (options_.threads < 1) throw std::invalid_argument("threads must be >= 1");
   if (options_.time_step_s < 0.0) throw std::invalid_argument("time_step_s must be >= 0");
-  if (!(options_.time_step_fraction_of_rayleigh > 0.0 && options_.time_step_fraction_of_rayleigh <= 1.0))
+  if (!(options_.time_step_fraction_of_rayleigh > 0.0 &&
+        options_.time_step_fraction_of_rayleigh <= 1.0))
     throw std::invalid_argument("time_step_fraction_of_rayleigh must lie in (0, 1]");
   if (!(options_.skin_fraction_of_diameter > 0.0))
     throw std::invalid_argument("skin_fraction_of_diameter must be > 0");
@@ -124,8 +125,8 @@ void Simulation::prepare() {
   for (int a = 0; a < nm; ++a)
     for (int b = a; b < nm; ++b)
       if (interactions_[a * nm + b]) {
-        const auto c =
-            resolve_pair(materials_[a], materials_[b], *interactions_[a * nm + b], options_.restitution_model);
+        const auto c = resolve_pair(materials_[a], materials_[b], *interactions_[a * nm + b],
+                                    options_.restitution_model);
         coefficients_[a * nm + b] = c;
         coefficients_[b * nm + a] = c;
       }
@@ -138,7 +139,8 @@ void Simulation::prepare() {
     r_max = std::max(r_max, r);
     t_rayleigh = std::min(t_rayleigh, rayleigh_time_s(materials_[material], r));
   };
-  for (std::size_t i = 0; i < particles_.size(); ++i) consider(particles_.radius_m[i], particles_.material[i]);
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    consider(particles_.radius_m[i], particles_.material[i]);
   for (const auto& ins : inserters_) {
     consider(0.5 * ins->sizes().min_diameter_m(), ins->material());
     consider(0.5 * ins->sizes().max_diameter_m(), ins->material());
@@ -163,7 +165,7 @@ void Simulation::prepare() {
   wall_loads_.assign(walls_.size(), WallLoad{});
   wall_candidates_.resize(walls_.size());
   team_ = std::make_unique<ThreadTeam>(options_.threads);
-  member_scratch_.assign(static_cast<std::size_t>(options_.threads), MemberScratch{});
+  chunk_scratch_.assign(static_cast<std::size_t>(options_.threads), ChunkScratch{});
   thread_force_.resize(options_.threads);
   thread_torque_.resize(options_.threads);
   thread_wall_loads_.resize(options_.threads);
@@ -214,9 +216,10 @@ void Simulation::run_inserters() {
   for (auto& ins : inserters_) {
     if (!ins->due(time_s_)) continue;
     const double r_max = 0.5 * ins->sizes().max_diameter_m();
-    InsertionContext ctx(time_s_, options_.domain, particles_, walls, rng_, ins->region().lower_m(),
-                         ins->region().upper_m(), r_max,
-                         [this](const Vec3& c, double r, int m, const Vec3& v) { add_particle(c, r, m, v); });
+    InsertionContext ctx(
+        time_s_, options_.domain, particles_, walls, rng_, ins->region().lower_m(),
+        ins->region().upper_m(), r_max,
+        [this](const Vec3& c, double r, int m, const Vec3& v) { add_particle(c, r, m, v); });
     ins->insert(ctx);
   }
 }
@@ -258,30 +261,36 @@ void Simulation::rebuild_neighbors() {
 }
 
 void Simulation::split_ownership() {
-  const int members = team_->size();
+  const int chunks = team_->size();
   const std::size_t n = particles_.size();
-  owner_begin_.assign(static_cast<std::size_t>(members) + 1, n);
+  owner_begin_.assign(static_cast<std::size_t>(chunks) + 1, n);
   owner_begin_[0] = 0;
-  window_end_.assign(static_cast<std::size_t>(members), n);
-  if (members == 1) return;
+  window_end_.assign(static_cast<std::size_t>(chunks), n);
+  if (chunks == 1) return;
   // Cost of particles [0, i): their listed pairs plus one unit each for the
-  // particle itself; each member gets an equal share.
-  auto cost = [&](std::size_t i) { return static_cast<double>(neighbors_.first(i)) + static_cast<double>(i); };
+  // particle itself; each chunk gets an equal share.
+  auto cost = [&](std::size_t i) {
+    return static_cast<double>(neighbors_.first(i)) + static_cast<double>(i);
+  };
   const double total = cost(n);
   std::size_t lo = 0;
-  for (int m = 1; m < members; ++m) {
-    const double target = total * m / members;
+  for (int m = 1; m < chunks; ++m) {
+    const double target = total * m / chunks;
     std::size_t a = lo, b = n;
     while (a < b) {
       const std::size_t mid = a + (b - a) / 2;
-      if (cost(mid) < target) a = mid + 1; else b = mid;
+      if (cost(mid) < target)
+        a = mid + 1;
+      else
+        b = mid;
     }
     owner_begin_[static_cast<std::size_t>(m)] = a;
     lo = a;
   }
-  for (int m = 0; m < members; ++m) {
+  for (int m = 0; m < chunks; ++m) {
     std::size_t end = owner_begin_[static_cast<std::size_t>(m) + 1];
-    for (std::size_t i = owner_begin_[static_cast<std::size_t>(m)]; i < owner_begin_[static_cast<std::size_t>(m) + 1]; ++i)
+    for (std::size_t i = owner_begin_[static_cast<std::size_t>(m)];
+         i < owner_begin_[static_cast<std::size_t>(m) + 1]; ++i)
       for (std::uint32_t p = neighbors_.first(i); p < neighbors_.first(i + 1); ++p)
         end = std::max<std::size_t>(end, neighbors_.partner(p) + 1);
     window_end_[static_cast<std::size_t>(m)] = end;
@@ -316,11 +325,11 @@ void Simulation::step() {
   torque_before_.resize(n);
   const auto& x_build = neighbors_.positions_at_build();
   const bool comparable = x_build.size() == n;
-  const int members = team_->size();
+  const int chunks = team_->size();
   team_->run([&](int m) {
     double max_move2 = 0.0;
-    const std::size_t end = ThreadTeam::split(n, members, m + 1);
-    for (std::size_t i = ThreadTeam::split(n, members, m); i < end; ++i) {
+    const std::size_t end = ThreadTeam::split(n, chunks, m + 1);
+    for (std::size_t i = ThreadTeam::split(n, chunks, m); i < end; ++i) {
       const Vec3 dv = (h * im[i]) * f[i];
       const Vec3 dw = (h * ii[i]) * t[i];
       x[i] += dt_ * (v[i] + dv);
@@ -330,17 +339,17 @@ void Simulation::step() {
       torque_before_[i] = t[i];
       if (comparable) max_move2 = std::max(max_move2, norm2(x[i] - x_build[i]));
     }
-    member_scratch_[m].max_move2 = max_move2;
+    chunk_scratch_[m].max_move2 = max_move2;
   });
   double max_move2 = 0.0;
-  for (int m = 0; m < members; ++m) max_move2 = std::max(max_move2, member_scratch_[m].max_move2);
+  for (int m = 0; m < chunks; ++m) max_move2 = std::max(max_move2, chunk_scratch_[m].max_move2);
   time_s_ += dt_;
 
   const double half_skin = 0.5 * neighbors_.skin_m();
   bool rebuild = rebuild_requested_ || !comparable || max_move2 > half_skin * half_skin;
   for (std::size_t k = 0; k < walls_.size() && !rebuild; ++k)
-    if (walls_[k]->motion().moves() &&
-        norm(walls_[k]->motion().displacement_m(time_s_) - wall_offset_at_build_[k]) > 0.5 * skin_m_)
+    if (walls_[k]->motion().moves() && norm(walls_[k]->motion().displacement_m(time_s_) -
+                                            wall_offset_at_build_[k]) > 0.5 * skin_m_)
       rebuild = true;
   while (!wall_change_times_.empty() && wall_change_times_.front() <= time_s_) {
     wall_change_times_.erase(wall_change_times_.begin());
@@ -365,7 +374,7 @@ void Simulation::step() {
     return first_bad;
   });
   std::size_t first_bad = n;
-  for (int m = 0; m < members; ++m) first_bad = std::min(first_bad, member_scratch_[m].first_bad);
+  for (int m = 0; m < chunks; ++m) first_bad = std::min(first_bad, chunk_scratch_[m].first_bad);
   ++steps_;
   particle_steps_ += static_cast<double>(n);
   if (first_bad < n) report_instability(first_bad);
@@ -418,7 +427,7 @@ void Simulation::compute_forces() {
 template <class Kernel, class Finish>
 void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   const std::size_t n = particles_.size();
-  const int members = team_->size();
+  const int chunks = team_->size();
   const auto& x = particles_.position_m;
   const auto& v = particles_.velocity_m_s;
   const auto& om = particles_.omega_rad_s;
@@ -431,8 +440,8 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   const double dt = dt_;
   const double now = time_s_;
   const std::size_t nwalls = walls_.size();
-  if (members > 1) {
-    for (int m = 0; m < members; ++m) {
+  if (chunks > 1) {
+    for (int m = 0; m < chunks; ++m) {
       thread_force_[m].resize(n);
       thread_torque_[m].resize(n);
     }
@@ -440,18 +449,20 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   for (auto& l : thread_wall_loads_) l.assign(nwalls, WallLoad{});
 
   team_->run([&](int m) {
-    // Each member owns the particles [own_begin, own_end): their pairs with
-    // higher-indexed partners and their wall contacts. With one member the
+    // Chunk m owns the particles [own_begin, own_end): their pairs with
+    // higher-indexed partners and their wall contacts. With one chunk the
     // forces go straight into the particle arrays.
     const std::size_t own_begin = owner_begin_[m], own_end = owner_begin_[m + 1];
-    std::vector<Vec3>& F = members == 1 ? particles_.force_n : thread_force_[m];
-    std::vector<Vec3>& T = members == 1 ? particles_.torque_nm : thread_torque_[m];
-    // Only the window of particles this member can write is cleared: its own
+    std::vector<Vec3>& F = chunks == 1 ? particles_.force_n : thread_force_[m];
+    std::vector<Vec3>& T = chunks == 1 ? particles_.torque_nm : thread_torque_[m];
+    // Only the window of particles this chunk can write is cleared: its own
     // and their partners (partners follow their owner in the list's order).
-    const std::size_t lo = members == 1 ? 0 : own_begin;
-    const std::size_t hi = members == 1 ? n : std::max(window_end_[m], own_end);
-    std::fill(F.begin() + static_cast<std::ptrdiff_t>(lo), F.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
-    std::fill(T.begin() + static_cast<std::ptrdiff_t>(lo), T.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    const std::size_t lo = chunks == 1 ? 0 : own_begin;
+    const std::size_t hi = chunks == 1 ? n : std::max(window_end_[m], own_end);
+    std::fill(F.begin() + static_cast<std::ptrdiff_t>(lo),
+              F.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    std::fill(T.begin() + static_cast<std::ptrdiff_t>(lo),
+              T.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
     std::vector<WallLoad>& my_loads = thread_wall_loads_[m];
     double elastic = 0.0;
     std::size_t contacts = 0;
@@ -521,11 +532,13 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       const Vec3 wall_velocity = wall.velocity_at(now);
       const Vec3 ref = wall.reference_point(now);
       const int mw = wall_material_[wi];
-      // The candidates of this member's particles (candidates are ascending).
+      // The candidates of this chunk's particles (candidates are ascending).
       const auto c_begin = static_cast<std::size_t>(
-          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_begin) - cand.particle.begin());
+          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_begin) -
+          cand.particle.begin());
       const auto c_end = static_cast<std::size_t>(
-          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_end) - cand.particle.begin());
+          std::lower_bound(cand.particle.begin(), cand.particle.end(), own_end) -
+          cand.particle.begin());
       for (std::size_t c = c_begin; c < c_end; ++c) {
         const std::uint32_t i = cand.particle[c];
         WallContactPoint cp;
@@ -575,7 +588,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         ++contacts;
       }
     }
-    MemberScratch& scratch = member_scratch_[m];
+    ChunkScratch& scratch = chunk_scratch_[m];
     scratch.elastic_j = elastic;
     scratch.contacts = contacts;
   });
@@ -585,11 +598,12 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   // repeats bit for bit at a given thread count), the body forces, and what
   // the caller does with the new forces (the second kick).
   team_->run([&](int m) {
-    const std::size_t begin = ThreadTeam::split(n, members, m), end = ThreadTeam::split(n, members, m + 1);
-    if (members > 1) {
+    const std::size_t begin = ThreadTeam::split(n, chunks, m),
+                      end = ThreadTeam::split(n, chunks, m + 1);
+    if (chunks > 1) {
       for (std::size_t i = begin; i < end; ++i) {
         Vec3 fs, ts;
-        for (int q = 0; q < members; ++q) {
+        for (int q = 0; q < chunks; ++q) {
           if (i < owner_begin_[q] || i >= std::max(window_end_[q], owner_begin_[q + 1])) continue;
           fs += thread_force_[q][i];
           ts += thread_torque_[q][i];
@@ -598,19 +612,20 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         particles_.torque_nm[i] = ts;
       }
     }
-    for (const auto& bf : body_forces_) bf->add(particles_, begin, end, particles_.force_n, particles_.torque_nm);
-    member_scratch_[m].first_bad = finish(begin, end);
+    for (const auto& bf : body_forces_)
+      bf->add(particles_, begin, end, particles_.force_n, particles_.torque_nm);
+    chunk_scratch_[m].first_bad = finish(begin, end);
   });
 
   double elastic = 0.0;
   std::size_t contacts = 0;
-  for (int m = 0; m < members; ++m) {
-    elastic += member_scratch_[m].elastic_j;
-    contacts += member_scratch_[m].contacts;
+  for (int m = 0; m < chunks; ++m) {
+    elastic += chunk_scratch_[m].elastic_j;
+    contacts += chunk_scratch_[m].contacts;
   }
   for (std::size_t w = 0; w < nwalls; ++w) {
     WallLoad total;
-    for (int m = 0; m < members; ++m) {
+    for (int m = 0; m < chunks; ++m) {
       total.force_n += thread_wall_loads_[m][w].force_n;
       total.torque_nm += thread_wall_loads_[m][w].torque_nm;
       total.contacts += thread_wall_loads_[m][w].contacts;

@@ -126,7 +126,7 @@ class Simulation {
   void rebuild_neighbors();
   void compute_forces();
   // Computes the forces, then calls finish(begin, end) on consecutive slices of
-  // the particles, each on one member of the team, once their forces are
+  // the particles, each a chunk of the team's run, once their forces are
   // final; finish returns the first unstable particle of its slice (or n).
   template <class Finish>
   void compute_forces(Finish&& finish);
@@ -155,20 +155,20 @@ class Simulation {
   std::vector<double> wall_change_times_;
 
   std::unique_ptr<ThreadTeam> team_;
-  // What each member of the team reports from a parallel pass.
-  struct alignas(64) MemberScratch {
+  // What each chunk of a team run reports.
+  struct alignas(64) ChunkScratch {
     double max_move2 = 0.0;
     double elastic_j = 0.0;
     std::size_t contacts = 0;
     std::size_t first_bad = 0;
   };
-  std::vector<MemberScratch> member_scratch_;
-  // Member m owns particles [owner_begin_[m], owner_begin_[m+1]) in the force
+  std::vector<ChunkScratch> chunk_scratch_;
+  // Chunk m owns particles [owner_begin_[m], owner_begin_[m+1]) in the force
   // loop (split so that each owns about as many listed pairs) and writes
   // forces on particles up to window_end_[m] (its partners). Set at each build.
   std::vector<std::size_t> owner_begin_;
   std::vector<std::size_t> window_end_;
-  // Per-thread force buffers; summed in thread order so results repeat exactly.
+  // Per-chunk force buffers; summed in chunk order so results repeat exactly.
   std::vector<std::vector<Vec3>> thread_force_;
   std::vector<std::vector<Vec3>> thread_torque_;
   std::vector<std::vector<WallLoad>> thread_wall_loads_;  // [thread][wall]
