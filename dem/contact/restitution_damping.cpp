@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace demcal::dem {
 namespace {
@@ -63,6 +65,16 @@ double damping_beta_for_restitution(double restitution) {
       << "\"linear_spring_formula\")";
     throw std::invalid_argument(s.str());
   }
+  // The search below integrates the collision some 40 times (~50 ms); every
+  // run, every design point and every config check asks again for the same few
+  // restitutions, so the answers are remembered. The search is a pure function
+  // of its argument: a remembered answer is the bit-identical answer.
+  static std::mutex memo_mutex;
+  static std::unordered_map<double, double> memo;
+  {
+    const std::lock_guard<std::mutex> lock(memo_mutex);
+    if (const auto it = memo.find(restitution); it != memo.end()) return it->second;
+  }
   double lo = 0.0;
   double hi = 1.0;
   while (restitution_for_damping_beta(hi) > restitution) hi = std::min(2.0 * hi, kMaxResolvedDampingBeta);
@@ -73,7 +85,11 @@ double damping_beta_for_restitution(double restitution) {
     else
       hi = mid;
   }
-  return 0.5 * (lo + hi);
+  const double beta = 0.5 * (lo + hi);
+  const std::lock_guard<std::mutex> lock(memo_mutex);
+  if (memo.size() >= 4096) memo.clear();  // a fuzzer's stream of new values must not grow it
+  memo.emplace(restitution, beta);
+  return beta;
 }
 
 double linear_spring_damping_beta(double restitution) {
