@@ -107,6 +107,14 @@ class Simulation {
   bool insertion_finished() const;
   const SimulationOptions& options() const { return options_; }
   const std::vector<Material>& materials() const { return materials_; }
+  // The material index wall `index` was added with.
+  int wall_material(std::size_t index) const { return wall_material_.at(index); }
+  // The interaction given for two materials, or nullptr when none was.
+  const InteractionParameters* interaction(int material_a, int material_b) const {
+    const std::size_t n = materials_.size();
+    const auto& p = interactions_.at(static_cast<std::size_t>(material_a) * n + static_cast<std::size_t>(material_b));
+    return p ? &*p : nullptr;
+  }
   const ContactLaw& contact_law() const { return law_; }
   std::size_t neighbor_builds() const { return neighbors_.build_count(); }
   std::size_t contact_count() const { return contacts_; }  // particle and wall contacts, last step

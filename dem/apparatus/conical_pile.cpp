@@ -77,37 +77,40 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
   }
 
   sim_ = std::make_unique<Simulation>(protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
-  const auto [p, w] = install_materials(*sim_, material, o_.reduction);
+  const InstalledMaterials mat = install_materials(*sim_, material, o_.reduction, wall_group_names());
+  const int p = mat.particle;
+  const int floor = mat.wall_for("floor"), base = mat.wall_for("base");
+  const int outer = mat.wall_for("outer_wall"), funnel = mat.wall_for("funnel");
   const double never = std::numeric_limits<double>::infinity();
-  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), w);
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), floor);
   if (slice) {
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rc, 0, 0}, Vec3{1, 0, 0}), w);
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rc, 0, 0}, Vec3{-1, 0, 0}), w);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rc, 0, 0}, Vec3{1, 0, 0}), outer);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rc, 0, 0}, Vec3{-1, 0, 0}), outer);
     sim_->add_wall(std::make_unique<RectangleWall>(Vec3{0, 0.5 * depth_m_, base_height_m_}, Vec3{0, 0, 1},
                                                    Vec3{1, 0, 0}, rb, depth_m_),
-                   w);
+                   base);
     outlet_wall_ = sim_->add_wall(
         std::make_unique<OrificePlateWall>(OrificePlateWall::slot(
             Vec3{0, 0.5 * depth_m_, outlet_height_m_}, Vec3{0, 0, 1}, Vec3{1, 0, 0},
             o_.funnel_outlet_diameter_m, never, rt)),
-        w);
+        funnel);
     sim_->add_wall(
-        make_slab_segment_wall(-ro, outlet_height_m_, -rt, outlet_height_m_ + funnel_h, depth_m_), w);
+        make_slab_segment_wall(-ro, outlet_height_m_, -rt, outlet_height_m_ + funnel_h, depth_m_), funnel);
     sim_->add_wall(
-        make_slab_segment_wall(ro, outlet_height_m_, rt, outlet_height_m_ + funnel_h, depth_m_), w);
-    sim_->add_wall(make_slab_segment_wall(-rt, outlet_height_m_ + funnel_h, -rt, top, depth_m_), w);
-    sim_->add_wall(make_slab_segment_wall(rt, outlet_height_m_ + funnel_h, rt, top, depth_m_), w);
+        make_slab_segment_wall(ro, outlet_height_m_, rt, outlet_height_m_ + funnel_h, depth_m_), funnel);
+    sim_->add_wall(make_slab_segment_wall(-rt, outlet_height_m_ + funnel_h, -rt, top, depth_m_), funnel);
+    sim_->add_wall(make_slab_segment_wall(rt, outlet_height_m_ + funnel_h, rt, top, depth_m_), funnel);
   } else {
-    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, base_height_m_, rc), w);
-    sim_->add_wall(std::make_unique<DiskWall>(Vec3{0, 0, base_height_m_}, Vec3{0, 0, 1}, rb), w);
+    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, base_height_m_, rc), outer);
+    sim_->add_wall(std::make_unique<DiskWall>(Vec3{0, 0, base_height_m_}, Vec3{0, 0, 1}, rb), base);
     outlet_wall_ = sim_->add_wall(
         std::make_unique<OrificePlateWall>(OrificePlateWall::circular(
             Vec3{0, 0, outlet_height_m_}, Vec3{0, 0, 1}, o_.funnel_outlet_diameter_m, never, rt)),
-        w);
-    sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, outlet_height_m_}, Vec3{0, 0, 1}, funnel_h, ro, rt), w);
+        funnel);
+    sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, outlet_height_m_}, Vec3{0, 0, 1}, funnel_h, ro, rt), funnel);
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, outlet_height_m_ + funnel_h}, Vec3{0, 0, 1},
                                                   o_.feed_height_m, rt),
-                   w);
+                   funnel);
   }
   FillOptions fill;
   fill.material = p;

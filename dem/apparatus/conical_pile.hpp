@@ -13,6 +13,9 @@
 
 #include "dem/apparatus/apparatus.hpp"
 
+#include <string>
+#include <vector>
+
 namespace demcal::dem {
 
 struct ConicalPileOptions {
@@ -33,6 +36,11 @@ class ConicalPile final : public Apparatus {
   ConicalPile(const ConicalPileOptions& options, const GranularMaterial& material,
               const RunProtocol& protocol);
   std::string name() const override { return "conical_pile"; }
+  // Its walls in groups that may each touch the grains with an interaction of
+  // their own (GranularMaterial::particle_wall_by_group): the "floor" under
+  // the base, the "base" the pile stands on, the "outer_wall" around the base,
+  // and the "funnel" (outlet plate, cone and cylinder above it).
+  static std::vector<std::string> wall_group_names() { return {"floor", "base", "outer_wall", "funnel"}; }
   const Simulation& simulation() const override { return *sim_; }
   ApparatusResult run(const StepObserver& observe) override;
 

@@ -52,31 +52,48 @@ double mean_diameter_m(const SizeDistribution& sizes) {
 
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
                            double density_kg_m3, const Domain& domain, double lattice_gap) {
-  const std::size_t sites = lattice_sites(region, sizes.max_diameter_m(), lattice_gap, domain).size();
+  const std::size_t sites =
+      lattice_sites(region, sizes.max_diameter_m(), lattice_gap, domain).size();
   return static_cast<double>(sites) * density_kg_m3 * std::numbers::pi / 6.0 *
          sizes.mean_diameter_cubed_m3();
 }
 
-std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& m,
-                                      const ModelReduction& reduction) {
+int InstalledMaterials::wall_for(const std::string& group) const {
+  const auto it = wall_by_group.find(group);
+  return it == wall_by_group.end() ? wall : it->second;
+}
+
+InstalledMaterials install_materials(Simulation& sim, const GranularMaterial& m,
+                                     const ModelReduction& reduction,
+                                     const std::vector<std::string>& wall_groups) {
   Material particle = m.particle;
   if (reduction.shear_modulus_pa > 0.0) {
     particle.shear_modulus_pa = reduction.shear_modulus_pa;
     particle.youngs_modulus_pa = 0.0;
   }
-  const int p = sim.add_material(particle);
-  const int w = sim.add_material(m.wall);
+  InstalledMaterials installed;
+  installed.particle = sim.add_material(particle);
+  installed.wall = sim.add_material(m.wall);
   // Pull-off (3 pi gamma R*) over weight goes as gamma / R^2: gamma f^2 gives a
   // parcel of factor f the Bond number of the grains it stands for.
   const double f = reduction.coarse_graining_factor;
-  InteractionParameters pp = m.particle_particle;
-  InteractionParameters pw = m.particle_wall;
-  pp.surface_energy_j_m2 *= f * f;
-  pw.surface_energy_j_m2 *= f * f;
-  sim.set_interaction(p, p, pp);
-  sim.set_interaction(p, w, pw);
+  const auto reduced = [f](InteractionParameters params) {
+    params.surface_energy_j_m2 *= f * f;
+    return params;
+  };
+  sim.set_interaction(installed.particle, installed.particle, reduced(m.particle_particle));
+  sim.set_interaction(installed.particle, installed.wall, reduced(m.particle_wall));
+  for (const std::string& group : wall_groups) {
+    const auto own = m.particle_wall_by_group.find(group);
+    if (own == m.particle_wall_by_group.end()) continue;
+    Material wall = m.wall;
+    wall.name += " (" + group + ")";  // a material's name is unique in a simulation
+    const int w = sim.add_material(wall);
+    sim.set_interaction(installed.particle, w, reduced(own->second));
+    installed.wall_by_group.emplace(group, w);
+  }
   if (m.air_drag) sim.add_body_force(std::make_unique<AirDrag>(*m.air_drag, f));
-  return {p, w};
+  return installed;
 }
 
 }  // namespace demcal::dem

@@ -11,8 +11,11 @@
 #include "dem/material.hpp"
 #include "dem/size_distribution.hpp"
 
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace demcal::dem {
 
@@ -23,6 +26,11 @@ struct GranularMaterial {
   Material wall;
   InteractionParameters particle_particle;
   InteractionParameters particle_wall;
+  // Walls of a named group that touch the grains with an interaction of their
+  // own instead of particle_wall: a hopper lined with the sand itself above a
+  // bare floor, say. Each apparatus names its groups (wall_group_names());
+  // groups an apparatus does not have are not used by it.
+  std::map<std::string, InteractionParameters> particle_wall_by_group;
   ContactLawSpec contact;
   std::shared_ptr<const SizeDistribution> sizes;
   RestitutionModel restitution_model = RestitutionModel::kExact;
@@ -60,10 +68,26 @@ double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
                            double density_kg_m3, const Domain& domain,
                            double lattice_gap = FillOptions{}.lattice_gap);
 
-// Adds both materials and both interactions, with the reduction applied (the
+// The material indices an apparatus builds its particles and walls with.
+struct InstalledMaterials {
+  int particle = -1;
+  int wall = -1;  // the walls that follow particle_wall
+  // One more wall material for each of the apparatus' groups that has an
+  // interaction of its own (the same wall material, another interaction).
+  std::map<std::string, int> wall_by_group;
+
+  // The material of the walls of `group`: its own when it has one, else `wall`.
+  int wall_for(const std::string& group) const;
+};
+
+// Adds both materials and the interactions, with the reduction applied (the
 // modulus, the surface energy scaled for coarse graining), and the air drag
-// when the material has it; returns {particle material index, wall material index}.
-std::pair<int, int> install_materials(Simulation& sim, const GranularMaterial& material,
-                                      const ModelReduction& reduction);
+// when the material has it. `wall_groups` are the apparatus' group names:
+// each that has an entry in particle_wall_by_group gets a wall material of
+// its own. Without such entries the indices and interactions are the ones a
+// material without groups always had, so runs stay bit-identical.
+InstalledMaterials install_materials(Simulation& sim, const GranularMaterial& material,
+                                     const ModelReduction& reduction,
+                                     const std::vector<std::string>& wall_groups = {});
 
 }  // namespace demcal::dem

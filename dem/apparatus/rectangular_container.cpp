@@ -66,13 +66,15 @@ RectangularContainer::RectangularContainer(const RectangularContainerOptions& op
   sim_ = std::make_unique<Simulation>(protocol::options_for(
       material, protocol, {-half - m, 0.0 - (periodic ? 0.0 : m), -m},
       {half + m, thickness_m_ + (periodic ? 0.0 : m), o_.height_m + m}, {false, periodic, false}));
-  const auto [p, w] = install_materials(*sim_, material, o_.reduction);
-  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), w);
-  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-half, 0, 0}, Vec3{1, 0, 0}), w);
-  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{half, 0, 0}, Vec3{-1, 0, 0}), w);
+  const InstalledMaterials mat = install_materials(*sim_, material, o_.reduction, wall_group_names());
+  const int p = mat.particle;
+  const int ends = mat.wall_for("end_walls"), sides = mat.wall_for("side_walls");
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mat.wall_for("floor"));
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-half, 0, 0}, Vec3{1, 0, 0}), ends);
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{half, 0, 0}, Vec3{-1, 0, 0}), ends);
   if (!periodic) {
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 1, 0}), w);
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, thickness_m_, 0}, Vec3{0, -1, 0}), w);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 1, 0}), sides);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, thickness_m_, 0}, Vec3{0, -1, 0}), sides);
   }
   PourOptions pour;
   pour.material = p;

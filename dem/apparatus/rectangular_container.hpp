@@ -13,6 +13,7 @@
 #include "dem/apparatus/apparatus.hpp"
 
 #include <string>
+#include <vector>
 
 namespace demcal::dem {
 
@@ -40,6 +41,11 @@ class RectangularContainer final : public Apparatus {
   RectangularContainer(const RectangularContainerOptions& options, const GranularMaterial& material,
                        const RunProtocol& protocol);
   std::string name() const override { return "rectangular_container"; }
+  // Its walls in groups that may each touch the grains with an interaction of
+  // their own (GranularMaterial::particle_wall_by_group): the "floor", the
+  // "end_walls" at either end of its width, and the "side_walls" that bound
+  // its thickness (absent when the thickness is periodic).
+  static std::vector<std::string> wall_group_names() { return {"floor", "end_walls", "side_walls"}; }
   const Simulation& simulation() const override { return *sim_; }
   ApparatusResult run(const StepObserver& observe) override;
 

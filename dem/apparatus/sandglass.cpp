@@ -101,34 +101,37 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
 
   sim_ = std::make_unique<Simulation>(
       protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
-  const auto [p, w] = install_materials(*sim_, material, o_.reduction);
+  const InstalledMaterials mat = install_materials(*sim_, material, o_.reduction, wall_group_names());
+  const int p = mat.particle;
+  const int floor = mat.wall_for("floor"), lower = mat.wall_for("lower_wall");
+  const int plate = mat.wall_for("orifice_plate"), hopper = mat.wall_for("hopper");
 
-  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), w);
+  sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), floor);
   const double never = std::numeric_limits<double>::infinity();
   if (slice) {
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rl, 0, 0}, Vec3{1, 0, 0}), w);
-    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rl, 0, 0}, Vec3{-1, 0, 0}), w);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rl, 0, 0}, Vec3{1, 0, 0}), lower);
+    sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rl, 0, 0}, Vec3{-1, 0, 0}), lower);
     orifice_wall_ = sim_->add_wall(
         std::make_unique<OrificePlateWall>(OrificePlateWall::slot(
             Vec3{0, 0.5 * depth_m_, zo}, Vec3{0, 0, 1}, Vec3{1, 0, 0}, o_.orifice_diameter_m, never)),
-        w);
+        plate);
     if (cone_height_m_ > 0.0) {
-      sim_->add_wall(make_slab_segment_wall(-r0, zo, -ru, zo + cone_height_m_, depth_m_), w);
-      sim_->add_wall(make_slab_segment_wall(r0, zo, ru, zo + cone_height_m_, depth_m_), w);
+      sim_->add_wall(make_slab_segment_wall(-r0, zo, -ru, zo + cone_height_m_, depth_m_), hopper);
+      sim_->add_wall(make_slab_segment_wall(r0, zo, ru, zo + cone_height_m_, depth_m_), hopper);
     }
-    sim_->add_wall(make_slab_segment_wall(-ru, zo + cone_height_m_, -ru, top_m_, depth_m_), w);
-    sim_->add_wall(make_slab_segment_wall(ru, zo + cone_height_m_, ru, top_m_, depth_m_), w);
+    sim_->add_wall(make_slab_segment_wall(-ru, zo + cone_height_m_, -ru, top_m_, depth_m_), hopper);
+    sim_->add_wall(make_slab_segment_wall(ru, zo + cone_height_m_, ru, top_m_, depth_m_), hopper);
   } else {
-    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, zo, rl), w);
+    sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, zo, rl), lower);
     orifice_wall_ = sim_->add_wall(
         std::make_unique<OrificePlateWall>(
             OrificePlateWall::circular(Vec3{0, 0, zo}, Vec3{0, 0, 1}, o_.orifice_diameter_m, never, rl)),
-        w);
+        plate);
     if (cone_height_m_ > 0.0)
-      sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, zo}, Vec3{0, 0, 1}, cone_height_m_, r0, ru), w);
+      sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, zo}, Vec3{0, 0, 1}, cone_height_m_, r0, ru), hopper);
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, zo + cone_height_m_}, Vec3{0, 0, 1},
                                                   o_.upper_height_m, ru),
-                   w);
+                   hopper);
   }
 
   FillOptions fill;

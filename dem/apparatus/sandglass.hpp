@@ -19,6 +19,7 @@
 #include "dem/apparatus/apparatus.hpp"
 
 #include <string>
+#include <vector>
 
 namespace demcal::dem {
 
@@ -51,6 +52,11 @@ class Sandglass final : public Apparatus {
   Sandglass(const SandglassOptions& options, const GranularMaterial& material,
             const RunProtocol& protocol);
   std::string name() const override { return "sandglass"; }
+  // Its walls in groups that may each touch the grains with an interaction of
+  // their own (GranularMaterial::particle_wall_by_group): the lower chamber's
+  // "floor" (where the pile forms) and "lower_wall", the "orifice_plate", and
+  // the "hopper" (cone and upper cylinder, or their slice walls).
+  static std::vector<std::string> wall_group_names() { return {"floor", "lower_wall", "orifice_plate", "hopper"}; }
   const Simulation& simulation() const override { return *sim_; }
   ApparatusResult run(const StepObserver& observe) override;
 

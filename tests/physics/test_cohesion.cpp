@@ -330,7 +330,8 @@ TEST(Cohesion, CoarseGrainedParcelsKeepTheGrainsBondNumber) {
         testing::options_in_box({-0.05, -0.05, -0.05}, {0.05, 0.05, 0.05}, {0, 0, 0});
     o.contact = m.contact;
     Simulation sim(o);
-    const auto [grain, wall] = install_materials(sim, m, reduction);
+    const InstalledMaterials installed = install_materials(sim, m, reduction);
+    const int grain = installed.particle, wall = installed.wall;
     (void)wall;
     const double r = f * kR;
     const double r_eff = 0.5 * r;
