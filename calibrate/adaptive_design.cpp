@@ -180,11 +180,15 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
       "after batch " + std::to_string(batch) + " (" + std::to_string(rec.runs_total) + " runs)";
   if (st.too_large_streak >= options_.out_of_range_batches) {
     st.status = AdaptiveDesignStatus::out_of_range;
+    // Where the best point sits says which way the recordings leave the model's range.
     std::string where;
-    for (const auto& e : cal.region.extent)
-      if (e.touches_lower_bound || e.touches_upper_bound)
-        where += (where.empty() ? "" : ", ") + e.name + " at its " +
-                 (e.touches_lower_bound ? "lower" : "upper") + " bound";
+    for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
+      const auto& b = problem_.parameters[j];
+      const double u = (best.theta(static_cast<Eigen::Index>(j)) - b.lower) / (b.upper - b.lower);
+      if (u < 1e-3 || u > 1.0 - 1e-3)
+        where += (where.empty() ? "" : ", ") + b.name + " at its " + (u < 0.5 ? "lower" : "upper") +
+                 " bound";
+    }
     st.statement =
         "the recordings are out of the model's range: " + after + ", the best point (" +
         point_text(problem_.parameters, best.theta) + (where.empty() ? "" : "; " + where) +
@@ -226,24 +230,29 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   for (const auto& r : runs_so_far)
     if (runs_at[r.request.theta]++ == 0) points.push_back(r.request.theta);
   if (rec.scatter_degrees_of_freedom < options_.scatter_degrees_of_freedom) {
+    // Each replicate adds one degree of freedom; they go to the design points nearest the
+    // calibrated point, where they also firm up the surrogates most usefully.
+    const int wanted =
+        std::min({options_.replicates_per_batch, count,
+                  options_.scatter_degrees_of_freedom - rec.scatter_degrees_of_freedom});
     const Eigen::VectorXd u_best = problem.to_unit(best.theta);
-    std::size_t nearest = 0;
-    double nearest_d = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, std::size_t>> by_distance;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const Eigen::VectorXd u = problem.to_unit(Eigen::Map<const Eigen::VectorXd>(
           points[k].data(), static_cast<Eigen::Index>(points[k].size())));
-      const double d = (u - u_best).norm();
-      if (d < nearest_d) {
-        nearest_d = d;
-        nearest = k;
-      }
+      by_distance.emplace_back((u - u_best).norm(), k);
     }
-    st.next.push_back(
-        {next, 0, points[nearest], runs_at[points[nearest]], run_seed(options_.seed, next, 0),
-         "replicate at the design point nearest the calibrated point (the scatter has " +
-             std::to_string(rec.scatter_degrees_of_freedom) + " < " +
-             std::to_string(options_.scatter_degrees_of_freedom) + " degrees of freedom)",
-         kNaN});
+    std::stable_sort(by_distance.begin(), by_distance.end());
+    for (int r = 0; r < wanted && r < static_cast<int>(by_distance.size()); ++r) {
+      const auto& theta = points[by_distance[static_cast<std::size_t>(r)].second];
+      const std::size_t slot = st.next.size();
+      st.next.push_back({next, slot, theta, runs_at[theta], run_seed(options_.seed, next, slot),
+                         "replicate near the calibrated point (the scatter has " +
+                             std::to_string(rec.scatter_degrees_of_freedom) + " < " +
+                             std::to_string(options_.scatter_degrees_of_freedom) +
+                             " degrees of freedom)",
+                         kNaN});
+    }
   }
   Eigen::MatrixXd design(static_cast<Eigen::Index>(points.size()),
                          static_cast<Eigen::Index>(problem_.parameters.size()));

@@ -11,7 +11,7 @@ AdaptiveDesignOptions::AdaptiveDesignOptions() {
   surrogate.nugget = "replicates";
   // Four starts find the same optimum as eight on designs this size; the fit is repeated
   // after every batch.
-  surrogate.starts = 4;
+  surrogate.starts = 8;
   // The region, not the posterior, steers the design; sampling would cost seconds per batch.
   calibration.mcmc_samples = 0;
 }
@@ -31,6 +31,8 @@ bool AdaptiveDesignOptions::Validate(std::string* error) const {
   if (scatter_degrees_of_freedom < 1)
     return fail("scatter_degrees_of_freedom must be >= 1, got " +
                 std::to_string(scatter_degrees_of_freedom));
+  if (replicates_per_batch < 1)
+    return fail("replicates_per_batch must be >= 1, got " + std::to_string(replicates_per_batch));
   if (acquisition_grid_points_per_axis < 5)
     return fail("acquisition_grid_points_per_axis must be >= 5, got " +
                 std::to_string(acquisition_grid_points_per_axis));

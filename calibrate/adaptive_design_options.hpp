@@ -17,18 +17,21 @@ struct AdaptiveDesignOptions {
   // --- The start (batch 0) -------------------------------------------------------------
   // Maximin Latin hypercube points over the box (>= parameters + 2, so that a linear-mean
   // GP has residual degrees of freedom).
-  int initial_points = 10;
+  int initial_points = 8;
   // Of them, the ones nearest the box centre get a second run (>= 1 and <= initial_points):
   // the surrogates' nugget comes from the pooled replicate scatter, which needs some.
-  int initial_replicated_points = 3;
+  int initial_replicated_points = 4;
 
   // --- The batches ---------------------------------------------------------------------
   // Runs per batch (>= 1): the runs that can be busy at once.
   int batch_size = 4;
   // While the pooled replicate scatter has fewer degrees of freedom than this (in the
-  // observable that has the fewest), the first run of a batch repeats the design point
-  // nearest the calibrated point: the scatter is measured where it matters (>= 1).
-  int scatter_degrees_of_freedom = 6;
+  // observable that has the fewest), up to `replicates_per_batch` runs of a batch (>= 1)
+  // repeat the design points nearest the calibrated point: the scatter is measured where it
+  // matters (>= 1). The scatter sets sigma_dem and with it the region's size: with nu
+  // degrees of freedom its variance is uncertain by sqrt(2 / nu) (45 % at 10).
+  int scatter_degrees_of_freedom = 10;
+  int replicates_per_batch = 2;
   // Nodes per axis of the grid the acquisition integrates over (>= 5).
   int acquisition_grid_points_per_axis = 31;
   // Of those nodes, at most this many (by posterior weight) carry the integral (>= 10), and
@@ -51,7 +54,7 @@ struct AdaptiveDesignOptions {
   //   the posterior-weighted surrogate variance is <= surrogate_variance_tolerance of the
   //   targets' noise variance (the region is set by the data, not by the surrogate) (> 0)
   //   the region is resolved on the calibration grid.
-  double area_tolerance = 0.10;
+  double area_tolerance = 0.15;
   double point_tolerance = 0.10;
   double surrogate_variance_tolerance = 0.25;
   // Converged after this many consecutive stable batches (>= 1).
