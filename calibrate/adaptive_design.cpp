@@ -63,7 +63,13 @@ AdaptiveDesign::AdaptiveDesign(AdaptiveDesignProblem problem, AdaptiveDesignOpti
     : problem_(std::move(problem)), options_(std::move(options)) {
   std::string error;
   if (!options_.Validate(&error)) throw std::invalid_argument(error);
-  if (problem_.parameters.empty()) throw std::invalid_argument("adaptive design: no parameters");
+  // The design shrinks the likelihood-ratio region, which the calibration grids for 1 to 3
+  // parameters only.
+  if (problem_.parameters.empty() || problem_.parameters.size() > 3)
+    throw std::invalid_argument(
+        "adaptive design: needs 1 to 3 parameters (the 95 % region is "
+        "computed on a grid), got " +
+        std::to_string(problem_.parameters.size()));
   for (const auto& b : problem_.parameters)
     if (!std::isfinite(b.lower) || !std::isfinite(b.upper) || !(b.upper > b.lower))
       throw std::invalid_argument("adaptive design: parameter '" + b.name +
@@ -154,7 +160,10 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
     double move = 0.0;
     for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
       const auto& b = problem_.parameters[j];
-      const double cell = (b.upper - b.lower) / (options_.calibration.grid_points_per_axis - 1);
+      const int nodes = problem_.parameters.size() == 3
+                            ? options_.calibration.grid_points_per_axis_3d
+                            : options_.calibration.grid_points_per_axis;
+      const double cell = (b.upper - b.lower) / (nodes - 1);
       const auto& e = cal.region.extent.at(j);
       const double width =
           std::isfinite(e.upper - e.lower) ? std::max(e.upper - e.lower, cell) : cell;

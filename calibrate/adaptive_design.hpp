@@ -36,7 +36,7 @@ struct AdaptiveDesignProblem {
 class AdaptiveDesign {
  public:
   // Throws std::invalid_argument with options.Validate's message, or naming the problem's
-  // fault (no parameters or recordings, bounds not finite or lower >= upper, sigma <= 0).
+  // fault (not 1 to 3 parameters, no recordings, bounds not finite or lower >= upper, sigma <= 0).
   AdaptiveDesign(AdaptiveDesignProblem problem, AdaptiveDesignOptions options);
 
   // The runs of the current batch not yet in `done` (empty when the design has ended; see
