@@ -249,6 +249,10 @@ TEST(AdaptiveDesign, AResumedDesignEqualsAnUninterruptedOne) {
     }
     EXPECT_EQ(resumed.history.to_json().dump(), whole.history.to_json().dump()) << "kept " << kept;
   }
+  // Killed after the last run: nothing more to do, and the same ending.
+  AdaptiveDesign fresh(problem, options);
+  EXPECT_TRUE(fresh.next_runs(whole.runs).empty());
+  EXPECT_EQ(fresh.history().to_json().dump(), whole.history.to_json().dump());
 }
 
 TEST(AdaptiveDesign, SameSeedSameDesignAndAForeignRunIsRejected) {
