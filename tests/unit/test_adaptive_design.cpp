@@ -276,7 +276,7 @@ TEST(AdaptiveDesign, SameSeedSameDesignAndAForeignRunIsRejected) {
 // of the 6 to lie within 0.1 of the posterior's top-half nodes; 2 did: after the start the
 // weighted IMSE spreads the batch along the discharge time's iso-line, e.g. its first choice
 // was (0.353, 0.42) for the truth (0.2, 0.45). That expectation was dropped, not tuned for.)
-TEST(AdaptiveDesign, TheBatchIsSpreadAndGoesWhereThePosteriorIs) {
+TEST(AdaptiveDesign, TheBatchKeepsItsDistanceAndEachChoiceIsWorthSomething) {
   AdaptiveDesignProblem problem{bounds(), recordings_at(0.2, 0.45, 2)};
   const AdaptiveDesignOptions options = test_options(2);
   AdaptiveDesign design(problem, options);
