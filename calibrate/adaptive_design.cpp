@@ -74,6 +74,11 @@ AdaptiveDesign::AdaptiveDesign(AdaptiveDesignProblem problem, AdaptiveDesignOpti
     if (!std::isfinite(b.lower) || !std::isfinite(b.upper) || !(b.upper > b.lower))
       throw std::invalid_argument("adaptive design: parameter '" + b.name +
                                   "' needs finite bounds with lower < upper");
+  // A linear-mean GP needs p + 1 points for its mean and one more to have any residual.
+  if (options_.initial_points < static_cast<int>(problem_.parameters.size()) + 2)
+    throw std::invalid_argument("adaptive design: initial_points must be >= parameters + 2 = " +
+                                std::to_string(problem_.parameters.size() + 2) + ", got " +
+                                std::to_string(options_.initial_points));
   if (problem_.recordings.empty()) throw std::invalid_argument("adaptive design: no recordings");
   for (std::size_t i = 0; i < problem_.recordings.size(); ++i) {
     const auto& r = problem_.recordings[i];
