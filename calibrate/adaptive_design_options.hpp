@@ -1,0 +1,88 @@
+#pragma once
+// How an adaptive design ([design] kind = "adaptive") chooses its runs and when it stops.
+// Defaults suit two parameters and two or three observables; docs/adaptive_design.md
+// gives the maths and why each tolerance is what it is.
+
+#include "calibrate/calibration_problem.hpp"
+#include "surrogate/surrogate_fit.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace demcal::calibrate {
+
+struct AdaptiveDesignOptions {
+  AdaptiveDesignOptions();
+
+  // --- The start (batch 0) -------------------------------------------------------------
+  // Maximin Latin hypercube points over the box (>= parameters + 2, so that a linear-mean
+  // GP has residual degrees of freedom).
+  int initial_points = 8;
+  // Of them, the ones nearest the box centre get a second run (>= 1 and <= initial_points):
+  // the surrogates' nugget comes from the pooled replicate scatter, which needs some.
+  int initial_replicated_points = 4;
+
+  // --- The batches ---------------------------------------------------------------------
+  // Runs per batch (>= 1): the runs that can be busy at once.
+  int batch_size = 4;
+  // While the pooled replicate scatter has fewer degrees of freedom than this (in the
+  // observable that has the fewest), up to `replicates_per_batch` runs of a batch (>= 1)
+  // repeat the design points nearest the calibrated point: the scatter is measured where it
+  // matters (>= 1). The scatter sets sigma_dem and with it the region's size: with nu
+  // degrees of freedom its variance is uncertain by sqrt(2 / nu) (45 % at 10).
+  int scatter_degrees_of_freedom = 10;
+  int replicates_per_batch = 2;
+  // Nodes per axis of the grid the acquisition integrates over (>= 5).
+  int acquisition_grid_points_per_axis = 31;
+  // Of those nodes, at most this many (by posterior weight) carry the integral (>= 10), and
+  // at most `candidate_points` of them (every k-th by weight) are candidates (>= 1) ...
+  int integration_points = 300;
+  int candidate_points = 96;
+  // ... together with this many Sobol points over the whole box (>= 0), so that the
+  // design can still look away from where the current posterior is.
+  int exploration_points = 32;
+  // A candidate closer than this (Euclidean, bound-scaled units) to a design point or to a
+  // point already in the batch is not taken: runs do not pile into one spot (a replicate is
+  // the only way to repeat a point). In (0, 0.5).
+  double min_separation = 0.03;
+
+  // --- Stopping ------------------------------------------------------------------------
+  // After a batch the design is stable when (all of):
+  //   |area - previous area| / previous area <= area_tolerance              (in (0, 1))
+  //   the calibrated point moved by <= point_tolerance of the 95 % region's extent along
+  //   every parameter                                                      (in (0, 1))
+  //   the posterior-weighted surrogate variance is <= surrogate_variance_tolerance of the
+  //   targets' noise variance (the region is set by the data, not by the surrogate) (> 0)
+  //   the region is resolved on the calibration grid.
+  double area_tolerance = 0.15;
+  double point_tolerance = 0.10;
+  double surrogate_variance_tolerance = 0.25;
+  // Converged after this many consecutive stable batches (>= 1).
+  int stable_batches = 2;
+  // Out of range: the best chi^2 exceeds the chi^2(targets) quantile 1 - alpha (no point
+  // reproduces the recordings even though chi^2 at the truth would pass) after this many
+  // consecutive batches. alpha in (0, 0.5).
+  double out_of_range_alpha = 1e-3;
+  int out_of_range_batches = 2;
+  // Budget: the design stops when these many runs (>= initial runs) or batches after the
+  // start (>= 1) are done; the last batch is cut to fit.
+  int max_runs = 48;
+  int max_batches = 12;
+
+  // --- What the design runs on ---------------------------------------------------------
+  // Seeds the start, the run seeds and the Sobol exploration offset.
+  std::uint64_t seed = 1;
+  // The surrogates fitted after each batch: model must be "gaussian_process" (the
+  // acquisition needs its predictive variance and a refit with fixed hyperparameters).
+  // Default: linear mean, nugget from replicates, 4 likelihood starts.
+  surrogate::SurrogateSpec surrogate;
+  // The calibration after each batch: its 95 % region is what the design shrinks.
+  // Default: the CalibrationOptions defaults without posterior sampling (mcmc_samples = 0).
+  CalibrationOptions calibration;
+
+  // True when every option is in range; otherwise false and *error (if given) names the
+  // first one out of range and its allowed values.
+  bool Validate(std::string* error) const;
+};
+
+}  // namespace demcal::calibrate
