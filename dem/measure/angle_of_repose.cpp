@@ -304,6 +304,26 @@ void combine_sides(AngleOfRepose& r) {
   r.uncertainty_deg = std::hypot(r.sem_deg, r.fit_error_deg);
 }
 
+// The slice rules on a binned profile: crest, both sides, their mean.
+void measure_slice_profile(AngleOfRepose& r, const Profile& p, const AoRCommonOptions& options,
+                           const std::string& profile_rule) {
+  const std::size_t crest = crest_index(p);
+  r.crest_height_m = raw_max_around(p, crest);
+  r.crest_position_m = p.centre_m[crest];
+  r.profile_position_m = p.centre_m;
+  r.profile_height_m = p.height_m;
+  r.rules = common_rules(options, r.diameter_m, r.bin_width_m);
+  r.rules.push_back(profile_rule);
+  if (!(r.crest_height_m > 0.0))
+    throw std::runtime_error("angle of repose: nothing tops out above the base (crest " +
+                             fmt(r.crest_height_m * 1e3) + " mm); is base_height_m right?");
+
+  const Thresholds t = thresholds(r.crest_height_m, r.diameter_m, options);
+  r.sides.push_back(analyse_side(p, crest, {"left", "left side", -1, -1.0}, t, options));
+  r.sides.push_back(analyse_side(p, crest, {"right", "right side", +1, +1.0}, t, options));
+  combine_sides(r);
+}
+
 }  // namespace
 
 AngleOfRepose measure_slice_angle_of_repose(const std::vector<Vec3>& position_m,
@@ -339,23 +359,70 @@ AngleOfRepose measure_slice_angle_of_repose(const std::vector<Vec3>& position_m,
     p.add(k, s, position_m[i].z + radius_m[i] - options.base_height_m);
   }
 
-  const std::size_t crest = crest_index(p);
-  r.crest_height_m = raw_max_around(p, crest);
-  r.crest_position_m = p.centre_m[crest];
-  r.profile_position_m = p.centre_m;
-  r.profile_height_m = p.height_m;
-  r.rules = common_rules(options, r.diameter_m, w);
-  r.rules.push_back("slice: profile along axis " + std::to_string(axis) +
-                    ", sides left/right of the crest, each bin fitted at the coordinate of the "
-                    "particle that set its height");
-  if (!(r.crest_height_m > 0.0))
-    throw std::runtime_error("angle of repose: no particle tops out above the base (crest " +
-                             fmt(r.crest_height_m * 1e3) + " mm); is base_height_m right?");
+  measure_slice_profile(
+      r, p, options,
+      "slice: profile along axis " + std::to_string(axis) +
+          ", sides left/right of the crest, each bin fitted at the coordinate of the "
+          "particle that set its height");
+  return r;
+}
 
-  const Thresholds t = thresholds(r.crest_height_m, r.diameter_m, options);
-  r.sides.push_back(analyse_side(p, crest, {"left", "left side", -1, -1.0}, t, options));
-  r.sides.push_back(analyse_side(p, crest, {"right", "right side", +1, +1.0}, t, options));
-  combine_sides(r);
+AngleOfRepose measure_profile_angle_of_repose(const std::vector<double>& position_m,
+                                              const std::vector<double>& height_m,
+                                              double diameter_m, const AoRCommonOptions& options) {
+  if (position_m.size() != height_m.size())
+    throw std::invalid_argument("angle of repose: the profile has " +
+                                std::to_string(position_m.size()) + " positions but " +
+                                std::to_string(height_m.size()) + " heights");
+  if (!(diameter_m > 0.0) || !std::isfinite(diameter_m))
+    throw std::invalid_argument(
+        "angle of repose: the profile's grain diameter must be a positive number, got " +
+        fmt(diameter_m));
+  if (options.selection)
+    throw std::invalid_argument(
+        "angle of repose: a measured profile has no particles to select; cut the profile to the "
+        "range to be read instead of giving a selection box");
+  if (!(options.bin_width_diameters > 0.0) || !std::isfinite(options.bin_width_diameters))
+    throw std::invalid_argument("angle of repose: bin_width_diameters must be positive");
+  // Points without a reading (NaN height: the laser saw nothing there) hold no
+  // data, like a bin without particles; a position must always be a number.
+  double s_min = std::numeric_limits<double>::infinity();
+  double s_max = -s_min;
+  std::size_t readings = 0;
+  for (std::size_t i = 0; i < position_m.size(); ++i) {
+    if (!std::isfinite(position_m[i]))
+      throw std::invalid_argument("angle of repose: profile point " + std::to_string(i + 1) +
+                                  " has no finite position");
+    if (std::isinf(height_m[i]))
+      throw std::invalid_argument("angle of repose: profile point " + std::to_string(i + 1) +
+                                  " has an infinite height");
+    if (std::isnan(height_m[i])) continue;
+    s_min = std::min(s_min, position_m[i]);
+    s_max = std::max(s_max, position_m[i]);
+    ++readings;
+  }
+  if (readings == 0)
+    throw std::runtime_error("angle of repose: the profile has no height readings");
+
+  AngleOfRepose r;
+  r.geometry = "slice";
+  r.diameter_m = diameter_m;
+  r.bin_width_m = options.bin_width_diameters * diameter_m;
+  r.base_height_m = options.base_height_m;
+  r.particles_used = 0;
+  const double w = r.bin_width_m;
+  const auto bins = static_cast<std::size_t>(std::floor((s_max - s_min) / w)) + 1;
+  Profile p(bins);
+  for (std::size_t k = 0; k < bins; ++k) p.centre_m[k] = s_min + (static_cast<double>(k) + 0.5) * w;
+  for (std::size_t i = 0; i < position_m.size(); ++i) {
+    if (std::isnan(height_m[i])) continue;
+    const auto k = std::min(static_cast<std::size_t>((position_m[i] - s_min) / w), bins - 1);
+    p.add(k, position_m[i], height_m[i] - options.base_height_m);
+  }
+  measure_slice_profile(r, p, options,
+                        "measured profile h(s) of " + std::to_string(readings) +
+                            " readings: each bin's height is its highest reading, fitted at that "
+                            "reading's position; d is the grains' diameter as given, not measured");
   return r;
 }
 

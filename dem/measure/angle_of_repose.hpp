@@ -184,6 +184,19 @@ AngleOfRepose measure_conical_angle_of_repose(const std::vector<Vec3>& position_
                                               const std::vector<double>& radius_m,
                                               const ConicalAoROptions& options = {});
 
+// The slice rules applied to a measured surface profile (a laser line or a
+// photograph's edge across a quasi-2D pile): heights height_m (above z = 0;
+// base_height_m is subtracted as for particles) at long-axis positions
+// position_m, in any order; a NaN height is a point without a reading. Bins
+// are bin_width_diameters * diameter_m wide (the grains' median diameter,
+// given); each bin's height is its highest reading, fitted at that reading's
+// position, as a bin's highest particle is. A selection box does not apply.
+// Throws as the particle versions do.
+AngleOfRepose measure_profile_angle_of_repose(const std::vector<double>& position_m,
+                                              const std::vector<double>& height_m,
+                                              double diameter_m,
+                                              const AoRCommonOptions& options = {});
+
 // Stable names: angle_of_repose_deg, angle_of_repose_uncertainty_deg,
 // sides: [{name, valid, angle_deg, std_error_deg, points, ...}],
 // crest_height_m, crest_position_m (slice: number; cone: [x0, y0]),
