@@ -31,6 +31,11 @@ struct RunProtocol {
   // the orifice for stall_time_s.
   double sample_interval_s = 0.005;
   double stall_time_s = 0.1;
+  // A run whose fill is estimated at more grains than this is refused before
+  // anything is built: at ~1 kB a grain and ~1e7 grain-steps a second, 1e6
+  // grains is a gigabyte and a tenth of a second a step, days for a run.
+  // Larger runs are meant for coarse graining, a slice, or a distributed engine.
+  double max_particles = 1e6;
 };
 
 // Called after every step with the phase name ("fill", "settle", "discharge", ...);
@@ -71,6 +76,13 @@ double total_mass_kg(const Particles& particles);
 // Throws std::invalid_argument "<apparatus>: <name> must be a positive number (got v)"
 // unless value is finite and > 0: the check every apparatus dimension needs.
 void require_positive(const char* apparatus, double value, const char* name);
+
+// The number of grains a fill of fill_mass_kg takes (the mass over the mean
+// grain's, for the sizes as simulated, coarse graining included); throws
+// std::invalid_argument naming the apparatus, the estimate and what to change
+// when it exceeds p.max_particles.
+double check_particle_count(const char* apparatus, double fill_mass_kg, const SizeDistribution& sizes,
+                            double density_kg_m3, const RunProtocol& p);
 
 }  // namespace protocol
 }  // namespace demcal::dem

@@ -53,6 +53,7 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
   outlet_height_m_ = base_height_m_ + o_.drop_height_m;
   const double top = outlet_height_m_ + funnel_h + o_.feed_height_m;
   const double fill_mass = slice ? o_.fill_mass_kg * depth_m_ / o_.funnel_top_diameter_m : o_.fill_mass_kg;
+  protocol::check_particle_count("conical_pile", fill_mass, *sizes, material.particle.density_kg_m3, protocol);
 
   const double margin = d_max;
   const double fill_h = o_.feed_height_m - 2.0 * margin;
@@ -66,7 +67,8 @@ ConicalPile::ConicalPile(const ConicalPileOptions& options, const GranularMateri
                 : slice ? make_box_region({-rt + margin, 0.0, z0}, {rt - margin, depth_m_, z0 + fill_h})
                         : make_cylinder_region({0, 0, z0}, rt - margin, fill_h);
   const double capacity = region ? lattice_capacity_kg(*region, *sizes, material.particle.density_kg_m3,
-                                                       Domain{lo, hi, {false, slice, false}})
+                                                       Domain{lo, hi, {false, slice, false}},
+                                                       FillOptions{}.lattice_gap, fill_mass)
                                  : 0.0;
   if (fill_mass > capacity) {
     std::ostringstream s;

@@ -51,11 +51,15 @@ double mean_diameter_m(const SizeDistribution& sizes) {
 }
 
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
-                           double density_kg_m3, const Domain& domain, double lattice_gap) {
-  const std::size_t sites =
-      lattice_sites(region, sizes.max_diameter_m(), lattice_gap, domain).size();
-  return static_cast<double>(sites) * density_kg_m3 * std::numbers::pi / 6.0 *
-         sizes.mean_diameter_cubed_m3();
+                           double density_kg_m3, const Domain& domain, double lattice_gap,
+                           double needed_kg) {
+  const double grain_kg = density_kg_m3 * std::numbers::pi / 6.0 * sizes.mean_diameter_cubed_m3();
+  std::size_t sites = 0;
+  for_each_lattice_site(region, sizes.max_diameter_m(), lattice_gap, domain, [&](const Vec3&) {
+    ++sites;
+    return !(static_cast<double>(sites) * grain_kg > needed_kg);
+  });
+  return static_cast<double>(sites) * grain_kg;
 }
 
 int InstalledMaterials::wall_for(const std::string& group) const {

@@ -11,6 +11,7 @@
 #include "dem/material.hpp"
 #include "dem/size_distribution.hpp"
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -63,10 +64,14 @@ std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistrib
 double mean_diameter_m(const SizeDistribution& sizes);
 
 // Mass a lattice fill of `region` takes (its sites times the mean particle
-// mass), for a lattice spaced (1 + lattice_gap) largest diameters.
+// mass), for a lattice spaced (1 + lattice_gap) largest diameters. Counting
+// stops once the capacity exceeds needed_kg: whether a region holds a fill is
+// then known in time proportional to the fill, however large the region (the
+// answer is exact whenever it is below needed_kg).
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
                            double density_kg_m3, const Domain& domain,
-                           double lattice_gap = FillOptions{}.lattice_gap);
+                           double lattice_gap = FillOptions{}.lattice_gap,
+                           double needed_kg = std::numeric_limits<double>::infinity());
 
 // The material indices an apparatus builds its particles and walls with.
 struct InstalledMaterials {

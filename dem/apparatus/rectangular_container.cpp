@@ -43,6 +43,8 @@ RectangularContainer::RectangularContainer(const RectangularContainerOptions& op
       << d_max << " m" << (periodic ? " with a periodic boundary (at least 2.7 diameters)" : "");
     throw std::invalid_argument(s.str());
   }
+  protocol::check_particle_count("rectangular_container", o_.fill_mass_kg, *sizes,
+                                 material.particle.density_kg_m3, protocol);
   const double half = 0.5 * o_.width_m;
   const double inlet_half = 0.5 * (o_.inlet_width_m > 0.0 ? o_.inlet_width_m : 8.0 * diameter_m_);
   const double inlet_z = o_.inlet_height_m > 0.0 ? o_.inlet_height_m : 0.8 * o_.height_m;

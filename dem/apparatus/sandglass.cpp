@@ -65,6 +65,7 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   top_m_ = zo + cone_height_m_ + o_.upper_height_m;
   depth_m_ = slice ? o_.reduction.slice_thickness_diameters * diameter_m_ : 0.0;
   fill_mass_kg_ = slice ? o_.fill_mass_kg * depth_m_ / o_.upper_diameter_m : o_.fill_mass_kg;
+  protocol::check_particle_count("sandglass", fill_mass_kg_, *sizes, material.particle.density_kg_m3, protocol);
 
   if (o_.orifice_diameter_m < 3.0 * diameter_m_) {
     std::ostringstream s;
@@ -88,7 +89,7 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   const double capacity_kg =
       region ? lattice_capacity_kg(*region, *sizes, material.particle.density_kg_m3,
                                    Domain{lo, hi, {false, slice, false}},
-                                   o_.fill_lattice_spacing_diameters - 1.0)
+                                   o_.fill_lattice_spacing_diameters - 1.0, fill_mass_kg_)
              : 0.0;
   if (fill_mass_kg_ > capacity_kg) {
     std::ostringstream s;

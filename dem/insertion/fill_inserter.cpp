@@ -87,8 +87,8 @@ class FillInserter final : public Inserter {
     const double d_max = sizes_->max_diameter_m();
     const double spacing = d_max * (1.0 + o_.lattice_gap);
     const double jitter = 0.5 * (spacing - d_max);
-    for (const Vec3& site : lattice_sites(*region_, d_max, o_.lattice_gap, ctx.domain())) {
-      if (reached()) break;
+    for_each_lattice_site(*region_, d_max, o_.lattice_gap, ctx.domain(), [&](const Vec3& site) {
+      if (reached()) return false;
       const double r = 0.5 * sizes_->sample_diameter_m(ctx.rng());
       const double slack = std::max(0.0, 0.5 * (spacing - 2.0 * r) - 1e-12);
       const double j = std::min(jitter + 0.5 * (d_max - 2.0 * r), slack);
@@ -96,7 +96,8 @@ class FillInserter final : public Inserter {
                                  ctx.rng().uniform(-j, j)};
       // The region may be round (a cylinder): keep only sites inside it.
       if (region_->contains(c, r) && ctx.is_free(c, r)) place(ctx, c, r);
-    }
+      return true;
+    });
   }
 
   std::unique_ptr<Region> region_;
@@ -109,8 +110,8 @@ class FillInserter final : public Inserter {
 
 }  // namespace
 
-std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, double lattice_gap,
-                                const Domain& domain) {
+void for_each_lattice_site(const Region& region, double max_diameter_m, double lattice_gap,
+                           const Domain& domain, const std::function<bool(const Vec3&)>& visit) {
   const double spacing = max_diameter_m * (1.0 + lattice_gap);
   const Vec3 lo = region.lower_m(), hi = region.upper_m();
   const Vec3 len = domain.length_m();
@@ -124,7 +125,6 @@ std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, dou
     if (domain.periodic[k] && std::abs(extent - len[k]) < 1e-12 * len[k])
       n[k] = static_cast<int>(std::floor(len[k] / spacing + 1e-6));
   }
-  std::vector<Vec3> sites;
   // Bottom up, so a partial fill is a settled-looking stack of layers.
   for (int iz = 0; iz < n[2]; ++iz)
     for (int iy = 0; iy < n[1]; ++iy)
@@ -134,8 +134,18 @@ std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, dou
         // Half a spacing of margin: a jittered particle at the site stays inside.
         // Less a rounding allowance: a region exactly n spacings wide puts its
         // outer sites exactly half a spacing from its faces.
-        if (region.contains(c, 0.5 * spacing * (1.0 - 2e-6))) sites.push_back(c);
+        if (region.contains(c, 0.5 * spacing * (1.0 - 2e-6)) && !visit(c)) return;
       }
+}
+
+std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, double lattice_gap,
+                                const Domain& domain, std::size_t max_sites) {
+  std::vector<Vec3> sites;
+  if (max_sites == 0) return sites;
+  for_each_lattice_site(region, max_diameter_m, lattice_gap, domain, [&](const Vec3& c) {
+    sites.push_back(c);
+    return sites.size() < max_sites;
+  });
   return sites;
 }
 

@@ -7,6 +7,7 @@
 #include "dem/size_distribution.hpp"
 #include "dem/domain.hpp"
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -68,10 +69,19 @@ struct FillOptions {
   int attempts_per_particle = 400;
 };
 
-// The nominal centres a lattice fill uses (before jitter): how many particles
-// a region can take that way, known before anything runs.
+// The nominal centres a lattice fill uses (before jitter), bottom up: how many
+// particles a region can take that way, known before anything runs. At most
+// max_sites of them (the first, in the same order): a capacity check or a fill
+// needs no more sites than grains, however large the region.
 std::vector<Vec3> lattice_sites(const Region& region, double max_diameter_m, double lattice_gap,
-                                const Domain& domain);
+                                const Domain& domain,
+                                std::size_t max_sites = std::numeric_limits<std::size_t>::max());
+
+// The same sites in the same order, handed to `visit` one by one until it
+// returns false: a fill takes sites until it has its amount, without a list
+// of every site of a large region.
+void for_each_lattice_site(const Region& region, double max_diameter_m, double lattice_gap,
+                           const Domain& domain, const std::function<bool(const Vec3&)>& visit);
 
 // Fills a region at one instant; throws when the region cannot hold the amount.
 std::unique_ptr<Inserter> make_fill_inserter(std::unique_ptr<Region> region,
