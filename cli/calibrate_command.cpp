@@ -4,13 +4,13 @@
 #include "calibrate/confidence_region.hpp"
 #include "calibrate/report/calibration_report.hpp"
 #include "calibrate/report/labels.hpp"
-#include "cli/calibration_config.hpp"
+#include "config/calibration_config.hpp"
 #include "cli/calibration_targets.hpp"
 #include "cli/console.hpp"
-#include "cli/recordings_csv.hpp"
+#include "config/recordings_csv.hpp"
 #include "cli/run_store.hpp"
 #include "cli/simulate_command.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
 #include "surrogate/gaussian_process.hpp"
 #include "surrogate/surrogate_fit.hpp"
@@ -20,6 +20,8 @@
 #include <sstream>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 namespace fs = std::filesystem;

@@ -1,12 +1,14 @@
 #include "cli/calibration_targets.hpp"
 
-#include "cli/recordings_csv.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/recordings_csv.hpp"
+#include "config/toml_reader.hpp"
 
 #include <cmath>
 #include <fstream>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 
 namespace fs = std::filesystem;
 

@@ -5,13 +5,13 @@
 #include "calibrate/report/html_report.hpp"
 #include "cli/calibrate_command.hpp"
 #include "cli/calibration_targets.hpp"
-#include "cli/design_config.hpp"
-#include "cli/diagnosis_config.hpp"
+#include "config/design_config.hpp"
+#include "config/diagnosis_config.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/physics_candidates.hpp"
-#include "cli/study_config.hpp"
+#include "config/physics_candidates.hpp"
+#include "config/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
@@ -25,6 +25,8 @@
 #include <tuple>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 namespace fs = std::filesystem;

@@ -3,8 +3,8 @@
 // reproduces the recordings, find where they part, name the physics the model
 // left out, add it and show the fit improve (DESIGN.md "Missing physics";
 // the statistics are calibrate/discrepancy_diagnosis.hpp, the candidates
-// cli/physics_candidates.hpp, the settings the study's [diagnosis] table,
-// cli/diagnosis_config.hpp).
+// config/physics_candidates.hpp, the settings the study's [diagnosis] table,
+// config/diagnosis_config.hpp).
 //
 // What runs, in order, each step resumable through the run store:
 //   1. the study's own pipeline (`demcal study`): design, runs, surrogates;

@@ -2,7 +2,7 @@
 
 #include "cli/doe_table.hpp"
 #include "cli/run_record.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 #include "dem/simulation.hpp"
 
 #include <omp.h>
@@ -20,6 +20,8 @@
 #include <utility>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 using Clock = std::chrono::steady_clock;

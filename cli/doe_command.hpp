@@ -1,6 +1,6 @@
 #pragma once
 // `demcal doe`: runs every design point x replicate x apparatus of a study
-// (its [design] table, cli/design_config.hpp) into the run store
+// (its [design] table, config/design_config.hpp) into the run store
 // (cli/run_store.hpp) and writes the campaign's table (cli/doe_table.hpp).
 //
 //   <output>/<study name>/runs/<hash>.json   one run record per distinct run

@@ -1,6 +1,6 @@
 #include "cli/doe_plan.hpp"
 
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -10,6 +10,8 @@
 #include <utility>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 

@@ -5,9 +5,9 @@
 // Making the plan builds the study at every design point, so every input
 // problem is a ConfigError before anything runs or touches the store.
 
-#include "cli/design_config.hpp"
+#include "config/design_config.hpp"
 #include "cli/run_store.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 #include "surrogate/design.hpp"
 
 #include <cstddef>
@@ -36,12 +36,12 @@ struct PlanRow {
 };
 
 struct DoePlan {
-  StudySource source;  // the study and the --set overrides
+  config::StudySource source;  // the study and the --set overrides
   std::string file;
   std::string study_name;
   std::uint64_t study_seed = 0;
   int threads_per_run = 1;
-  DesignConfig design;
+  config::DesignConfig design;
   surrogate::Design generated;
   std::vector<std::string> apparatus;  // run, in the study's order
   bool study_asks_for_vtk = false;     // [output] vtk = true (doe writes none)
@@ -55,7 +55,7 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
                  const std::vector<std::string>& apparatus, int threads_per_run);
 
 // The study with run `run`'s design values, seed and threads set: what is built and run.
-ConfigDocument run_document(const DoePlan& plan, const PlannedRun& run);
+config::ConfigDocument run_document(const DoePlan& plan, const PlannedRun& run);
 
 // "mu_r = 0.1, mu_s = 0.3"
 std::string describe_point(const DoePlan& plan, std::size_t point);

@@ -5,6 +5,8 @@
 #include <algorithm>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 std::string observable_text(const nlohmann::json& v) {

@@ -3,11 +3,11 @@
 #include "calibrate/report/inspection_report.hpp"
 #include "calibrate/report/labels.hpp"
 #include "cli/console.hpp"
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 #include "cli/run_store.hpp"
-#include "cli/study_config.hpp"
-#include "cli/toml_reader.hpp"
-#include "cli/surrogate_config.hpp"
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
+#include "config/surrogate_config.hpp"
 #include "dem/output/atomic_file.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
@@ -20,6 +20,8 @@
 #include <sstream>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 namespace fs = std::filesystem;

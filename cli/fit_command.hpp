@@ -1,6 +1,6 @@
 #pragma once
 // `demcal fit <study.toml>`: fits the study's surrogates ([surrogate] table,
-// cli/surrogate_config.hpp) to its design table and saves each as JSON:
+// config/surrogate_config.hpp) to its design table and saves each as JSON:
 //   <output>/<study>/surrogates/<apparatus>.<observable>.json
 // (model with every coefficient and hyperparameter, the spec, the DEM's
 // replicate scatter, leave-one-out validation). The table is

@@ -7,6 +7,8 @@
 #endif
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 // Variables the common launchers set in every process they start.

@@ -20,6 +20,8 @@
 #include <vector>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
 namespace {
 
 // ------------------------------------------------------------------ SHA-256

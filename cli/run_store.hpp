@@ -33,7 +33,7 @@
 // removed by remove_stale_temporaries (those of other hosts, on a shared file
 // system, are left alone: their writers may be alive).
 
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -64,7 +64,7 @@ RunKey make_run_key(nlohmann::json key);
 
 // The run key of one run of `apparatus` in `study` (already built with the
 // design values applied), with `seed` and `threads` the run's own.
-RunKey run_key_for(const StudyConfig& study, const std::string& apparatus, std::uint64_t seed,
+RunKey run_key_for(const config::StudyConfig& study, const std::string& apparatus, std::uint64_t seed,
                    int threads);
 
 // Writes `content` to `file` through a unique temporary in the same directory,

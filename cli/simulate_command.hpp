@@ -1,7 +1,7 @@
 #pragma once
 // `demcal simulate`: config -> assembled simulation -> stepped to the end time
 // or until at rest -> VTK snapshots and run.json. A study config (one with
-// [apparatus.*] tables, cli/study_config.hpp) runs one apparatus instead
+// [apparatus.*] tables, config/study_config.hpp) runs one apparatus instead
 // (cli/apparatus_command.hpp).
 
 #include "cli/run_record.hpp"

@@ -19,8 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (record) {
     const nlohmann::json& r = *record;
     const nlohmann::json observables =
-        demcal::cli::with_stable_observables(r.contains("observables") ? r.at("observables") : nlohmann::json());
-    (void)demcal::cli::series_observables(r.contains("series") ? r.at("series") : nlohmann::json::object(),
+        demcal::config::with_stable_observables(r.contains("observables") ? r.at("observables") : nlohmann::json());
+    (void)demcal::config::series_observables(r.contains("series") ? r.at("series") : nlohmann::json::object(),
                                           observables);
   }
   return 0;

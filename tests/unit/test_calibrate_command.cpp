@@ -18,6 +18,8 @@
 namespace demcal::cli {
 namespace {
 
+using namespace demcal::config;
+
 namespace fs = std::filesystem;
 
 TEST(CalibrateCommand, TheReferencePointsChiSquareAndRegionMembershipAreReported) {

@@ -26,6 +26,8 @@
 namespace demcal::cli {
 namespace {
 
+using namespace demcal::config;
+
 namespace fs = std::filesystem;
 
 struct TruthRun {

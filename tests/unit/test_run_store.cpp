@@ -2,7 +2,7 @@
 // what determines a run and on nothing else (not key order, not 1 vs 1.0, not
 // the study's name or output), and files that are whole or absent.
 #include "cli/run_store.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,6 +15,8 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
 
 namespace fs = std::filesystem;
 

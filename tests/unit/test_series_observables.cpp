@@ -8,6 +8,8 @@
 namespace demcal::cli {
 namespace {
 
+using namespace demcal::config;
+
 TEST(SeriesObservables, TheDischargeSeriesIsReadAtAQuarterHalfAndThreeQuarters) {
   // m(t) rising linearly to 2 kg at t = 1 s after a 0.1 s delay, sampled every 0.1 s.
   nlohmann::json series = {

@@ -5,7 +5,7 @@
 
 #include "cli/run_record.hpp"
 #include "cli/simulate_command.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,6 +21,8 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
 
 // Small, coarse-grained and sliced so that building all three is instant.
 const char* const kStudy = R"(# a study with all three apparatus

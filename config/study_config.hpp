@@ -6,7 +6,7 @@
 // dimensions, so the config holds no walls, boxes or insertions.
 //
 // The reader is as strict as the plain simulation config's (it is built from
-// the same pieces, cli/toml_reader.hpp): an unknown key, a missing required key
+// the same pieces, config/toml_reader.hpp): an unknown key, a missing required key
 // (every dimension is required: the paper's are unknown, so a study states
 // each one), a wrong type or an out-of-range value is a ConfigError naming
 // file:line, the dotted key and what was expected. Building each apparatus is
@@ -87,8 +87,8 @@
 //   time_step_fraction_of_rayleigh = 0.2  # (0, 1]
 //   max_steps = 1e10                      # opt (not written in when absent): a run whose
 //                                         #   estimated steps exceed it is refused before it
-//                                         #   starts (cli/run_sanity.hpp)
-//   The physical sanity rules of cli/run_sanity.hpp apply on top of each key's range:
+//                                         #   starts (config/run_sanity.hpp)
+//   The physical sanity rules of config/run_sanity.hpp apply on top of each key's range:
 //   check_interval_s >= rest_speed_m_s / g; rest_speed_m_s at most the speed of a grain
 //   fallen a tenth of its diameter; at most 10 % overlap in a 1 m/s collision; the step
 //   estimate. Densities are at most 3e4 kg/m3, moduli 1e13 Pa, friction coefficients 10,
@@ -143,7 +143,7 @@
 //   vtk = false                           # opt; snapshots cost time and disk
 //   snapshot_interval_s = 0.0             # opt, >= 0; 0 = only the final state
 //
-//   [design]                              # opt; the runs of `demcal doe` (cli/design_config.hpp)
+//   [design]                              # opt; the runs of `demcal doe` (config/design_config.hpp)
 //   kind = "full_factorial"               # "full_factorial" | "latin_hypercube" | "sobol"
 //   points = 20                           # latin_hypercube and sobol only (required there)
 //   replicates = 1                        # opt, >= 1; replicate r runs with seed study.seed + r
@@ -154,14 +154,14 @@
 //                                         #   lower < upper; levels (>= 2) with full_factorial only
 //   `demcal simulate` accepts and ignores [design]: it runs the study as written.
 //
-//   [surrogate]                           # opt; what `demcal fit` fits (cli/surrogate_config.hpp)
+//   [surrogate]                           # opt; what `demcal fit` fits (config/surrogate_config.hpp)
 //   model = "gaussian_process"            # | "polynomial"; further keys per model there
 //
-//   [calibration]                         # opt; what `demcal calibrate` fits (cli/calibration_config.hpp)
+//   [calibration]                         # opt; what `demcal calibrate` fits (config/calibration_config.hpp)
 //   recordings = "recordings.csv"         # relative to this file; further keys there
 //
 // Overrides (`--set key=value`) address keys by dotted path as for plain configs
-// (cli/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
+// (config/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
 // Aliases name the calibrated pair the way the paper does, and the parameters
 // of the physics modules:
 //   --set mu_s=0.52   is   --set interaction.particle_particle.sliding_friction=0.52
@@ -177,12 +177,12 @@
 // that ran, and no [design], so two runs of the same apparatus with the same
 // inputs record the same inputs whatever else the study defines.
 
-#include "cli/design_config.hpp"
-#include "cli/calibration_config.hpp"
-#include "cli/diagnosis_config.hpp"
-#include "cli/surrogate_config.hpp"
-#include "cli/simulation_config.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/design_config.hpp"
+#include "config/calibration_config.hpp"
+#include "config/diagnosis_config.hpp"
+#include "config/surrogate_config.hpp"
+#include "config/simulation_config.hpp"
+#include "config/toml_reader.hpp"
 #include "dem/apparatus/apparatus.hpp"
 #include "dem/apparatus/granular_material.hpp"
 
@@ -195,7 +195,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 // The apparatus a study can define, as named in [apparatus.<name>].
 const std::vector<std::string>& known_apparatus_names();
@@ -222,13 +222,13 @@ struct StudyConfig {
   // directory is empty unless the file (or --output) gives it: the default
   // depends on the apparatus (output_directory()).
   OutputSettings output;
-  // [design], when the study has one (cli/design_config.hpp).
+  // [design], when the study has one (config/design_config.hpp).
   std::optional<DesignConfig> design;
-  // [surrogate], when the study has one (cli/surrogate_config.hpp).
+  // [surrogate], when the study has one (config/surrogate_config.hpp).
   std::optional<SurrogateConfig> surrogate;
-  // [calibration], when the study has one (cli/calibration_config.hpp).
+  // [calibration], when the study has one (config/calibration_config.hpp).
   std::optional<CalibrationConfig> calibration;
-  // [diagnosis], when the study has one (cli/diagnosis_config.hpp).
+  // [diagnosis], when the study has one (config/diagnosis_config.hpp).
   std::optional<DiagnosisConfig> diagnosis;
   // The whole config after overrides, with every default written in.
   toml::table resolved;
@@ -253,4 +253,4 @@ std::filesystem::path output_directory(const StudyConfig& study, const std::stri
 // output directory written in.
 toml::table resolved_for(const StudyConfig& study, const std::string& apparatus);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

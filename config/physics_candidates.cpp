@@ -1,6 +1,6 @@
-#include "cli/physics_candidates.hpp"
+#include "config/physics_candidates.hpp"
 
-namespace demcal::cli {
+namespace demcal::config {
 
 const std::vector<PhysicsCandidate>& physics_candidates() {
   // Ranges: what is physically plausible for dry to damp sand of 0.3-0.6 mm.
@@ -63,4 +63,4 @@ std::vector<std::string> physics_candidate_names() {
   return n;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -3,7 +3,7 @@
 // surrogates to, and how hard it looks. Every key but `recordings` is optional:
 //
 //   [calibration]
-//   recordings = "recordings.csv"     # relative to the study file; cli/recordings_csv.hpp
+//   recordings = "recordings.csv"     # relative to the study file; config/recordings_csv.hpp
 //   alone = "angle_of_repose_deg"     # the single observable calibrated alone for the
 //                                     #   comparison ("" = none); default: AoR if recorded
 //   confidence = 0.95                 # of every region, (0, 1)
@@ -20,8 +20,8 @@
 //   reference_point = [0.3, 0.52]     #   paper's pair or the truth of synthetic recordings
 //                                     #   (one value per [design] parameter, in its order)
 
-#include "cli/design_config.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/design_config.hpp"
+#include "config/toml_reader.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct CalibrationConfig {
   std::filesystem::path recordings;  // resolved against the study file's directory
@@ -50,4 +50,4 @@ struct CalibrationConfig {
 std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
                                                   const std::optional<DesignConfig>& design = std::nullopt);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,10 +1,10 @@
-#include "cli/calibration_config.hpp"
+#include "config/calibration_config.hpp"
 
-#include "cli/run_record.hpp"
+#include "config/observables.hpp"
 
 #include <limits>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
                                                   const std::optional<DesignConfig>& design) {
@@ -53,4 +53,4 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
   return c;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct PhysicsCandidate {
   std::string name;        // "cohesion"
@@ -39,4 +39,4 @@ const PhysicsCandidate* find_physics_candidate(const std::string& name);
 
 std::vector<std::string> physics_candidate_names();
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,4 +1,4 @@
-#include "cli/run_sanity.hpp"
+#include "config/run_sanity.hpp"
 
 #include "dem/material.hpp"
 
@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string_view>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 using reader::format_number;
 
@@ -129,4 +129,4 @@ void check_apparatus_extent(reader::Table& t, const dem::Apparatus& apparatus) {
                   "(a half angle near 0 makes a hopper or funnel endlessly tall)");
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,7 +1,7 @@
 #pragma once
 // Physical sanity of a study before anything runs: values that are legal
 // types and within their keys' ranges but make a run meaningless or endless.
-// Each rule is checked where the study is read (cli/study_config.cpp), and a
+// Each rule is checked where the study is read (config/study_config.cpp), and a
 // failure is a ConfigError at the key that decides it, with the reason:
 //
 // - Rest check finer than the dynamics: a grain released from rest reaches
@@ -20,13 +20,13 @@
 //   estimate exceeds protocol.max_steps (default kDefaultMaxSteps = 1e10) is
 //   refused with the estimate.
 
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 #include "dem/apparatus/apparatus.hpp"
 #include "dem/apparatus/granular_material.hpp"
 
 #include <cstdint>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 inline constexpr double kStandardGravity = 9.81;
 inline constexpr double kImpactSpeed_m_s = 1.0;
@@ -74,4 +74,4 @@ void check_cone_height(reader::Table& t, std::string_view angle_key, double wide
 // refused at its table, with the box.
 void check_apparatus_extent(reader::Table& apparatus_table, const dem::Apparatus& apparatus);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

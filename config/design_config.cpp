@@ -1,6 +1,6 @@
-#include "cli/design_config.hpp"
+#include "config/design_config.hpp"
 
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 #include "surrogate/sobol_design.hpp"
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <limits>
 #include <utility>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 using namespace reader;
 
@@ -283,4 +283,4 @@ void check_design_bounds(const StudySource& source, const DesignConfig& design) 
   }
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

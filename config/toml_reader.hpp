@@ -32,7 +32,7 @@
 #include <utility>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 class ConfigError : public std::runtime_error {
  public:
@@ -524,4 +524,4 @@ void check_surface_energies(Table& contact, const std::string& adhesion,
                             const std::vector<SurfaceEnergyKey>& given);
 
 }  // namespace reader
-}  // namespace demcal::cli
+}  // namespace demcal::config

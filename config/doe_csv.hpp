@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct DoeCsvRow {
   std::size_t line = 0;
@@ -53,4 +53,4 @@ std::string without_bom(const std::string& line);
 // One CSV line split into fields (double-quoted fields may hold commas and "").
 std::vector<std::string> split_csv_line(const std::string& line);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 // `setups`: the study's apparatus names.
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
@@ -38,4 +38,4 @@ calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesyste
 // "deg" for angle_of_repose_deg, ...; throws std::out_of_range for an unknown observable.
 const std::string& unit_of_observable(const std::string& observable);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

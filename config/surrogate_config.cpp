@@ -1,8 +1,8 @@
-#include "cli/surrogate_config.hpp"
+#include "config/surrogate_config.hpp"
 
-#include "cli/run_record.hpp"
+#include "config/observables.hpp"
 
-namespace demcal::cli {
+namespace demcal::config {
 
 std::optional<SurrogateConfig> read_surrogate(reader::Table& root) {
   if (!root.has("surrogate")) return std::nullopt;
@@ -30,4 +30,4 @@ std::optional<SurrogateConfig> read_surrogate(reader::Table& root) {
   return c;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

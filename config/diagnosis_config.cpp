@@ -1,8 +1,8 @@
-#include "cli/diagnosis_config.hpp"
+#include "config/diagnosis_config.hpp"
 
-#include "cli/physics_candidates.hpp"
+#include "config/physics_candidates.hpp"
 
-namespace demcal::cli {
+namespace demcal::config {
 
 std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::vector<std::string>& setups) {
   if (!root.has("diagnosis")) return std::nullopt;
@@ -37,4 +37,4 @@ std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::ve
   return c;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,11 +1,11 @@
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
-namespace demcal::cli {
+namespace demcal::config {
 namespace reader {
 
 std::string format_number(double v) {
@@ -489,4 +489,4 @@ void apply_override(ConfigDocument& doc, std::string_view assignment,
 }
 
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,8 +1,8 @@
-#include "cli/recordings_csv.hpp"
+#include "config/recordings_csv.hpp"
 
-#include "cli/doe_csv.hpp"
-#include "cli/run_record.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/doe_csv.hpp"
+#include "config/observables.hpp"
+#include "config/toml_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <map>
 #include <set>
 
-namespace demcal::cli {
+namespace demcal::config {
 namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& file, std::size_t line, const std::string& what) {
@@ -150,4 +150,4 @@ calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesyste
   return s;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,5 +1,5 @@
 #pragma once
-// The [design] table of a study config (cli/study_config.hpp): which parameter
+// The [design] table of a study config (config/study_config.hpp): which parameter
 // points `demcal doe` runs, how many replicates of each, and how the points are
 // made. Read as strictly as the rest of the study:
 //
@@ -34,7 +34,7 @@
 // Points of a replicate share a seed (common random numbers: the difference
 // between two points is not blurred by a different packing).
 
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 #include "surrogate/design.hpp"
 
 #include <cstddef>
@@ -44,7 +44,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct DesignConfig {
   surrogate::DesignSpec spec;              // parameter names as written
@@ -102,4 +102,4 @@ void check_design_bounds(const StudySource& source, const DesignConfig& design);
 // The seed of replicate r: study_seed + r.
 std::uint64_t replicate_seed(std::uint64_t study_seed, int replicate);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,7 +1,7 @@
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 
-#include "cli/run_record.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/observables.hpp"
+#include "config/toml_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <map>
 #include <tuple>
 
-namespace demcal::cli {
+namespace demcal::config {
 namespace {
 
 [[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& what) {
@@ -191,4 +191,4 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file) {
   return t;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

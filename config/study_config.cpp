@@ -1,8 +1,8 @@
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
-#include "cli/calibration_config.hpp"
-#include "cli/run_sanity.hpp"
-#include "cli/surrogate_config.hpp"
+#include "config/calibration_config.hpp"
+#include "config/run_sanity.hpp"
+#include "config/surrogate_config.hpp"
 
 #include "dem/apparatus/conical_pile.hpp"
 #include "dem/contact/restitution_damping.hpp"
@@ -16,7 +16,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 using namespace reader;
 
@@ -421,4 +421,4 @@ toml::table resolved_for(const StudyConfig& study, const std::string& apparatus)
   return t;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -116,7 +116,7 @@
 // (either order; names containing '.' cannot be selected). Value arrays may be indexed too:
 // domain.upper_m[2]. A key the schema does not know is an error naming it.
 
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 #include "dem/simulation.hpp"
 
 #include <toml++/toml.h>
@@ -130,7 +130,7 @@
 #include <string_view>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct RunControl {
   double end_time_s = 0.0;
@@ -165,4 +165,4 @@ SimulationConfig build_simulation(ConfigDocument&& doc);
 SimulationConfig load_simulation_config(const std::filesystem::path& path,
                                         const std::vector<std::string>& overrides);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

@@ -1,4 +1,4 @@
-#include "cli/simulation_config.hpp"
+#include "config/simulation_config.hpp"
 
 #include "dem/air_drag.hpp"
 #include "dem/contact/contact_law.hpp"
@@ -19,7 +19,7 @@
 #include <optional>
 #include <utility>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 using namespace reader;
 
@@ -326,7 +326,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   out.run.stop_at_rest = run_t.boolean_or("stop_at_rest", true);
   out.run.rest_speed_m_s = run_t.number_or("rest_speed_m_s", 2e-3, above(0));
   out.run.check_interval_s = run_t.number_or("check_interval_s", 0.01, above(0));
-  // As for a study's protocol (cli/run_sanity.hpp): a grain released from rest
+  // As for a study's protocol (config/run_sanity.hpp): a grain released from rest
   // reaches rest_speed_m_s only after rest_speed_m_s / g; a finer check declares
   // a falling fill at rest.
   if (const double g = dem::norm(gravity); out.run.stop_at_rest && g > 0.0 &&
@@ -360,4 +360,4 @@ SimulationConfig load_simulation_config(const std::filesystem::path& path,
   return build_simulation(std::move(doc));
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

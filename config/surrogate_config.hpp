@@ -17,14 +17,14 @@
 // Keys that do not apply to the chosen model are refused, so a study never
 // carries a setting that silently does nothing.
 
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
 #include <optional>
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct SurrogateConfig {
   surrogate::SurrogateSpec spec;
@@ -34,4 +34,4 @@ struct SurrogateConfig {
 // Reads [surrogate] if the document has one (build_study calls it).
 std::optional<SurrogateConfig> read_surrogate(reader::Table& root);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config

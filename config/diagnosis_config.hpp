@@ -5,7 +5,7 @@
 //
 //   [diagnosis]
 //   candidates = ["cohesion", "wall_friction", "air_drag", "size_spread"]
-//                                     # default: every one cli/physics_candidates.hpp knows
+//                                     # default: every one config/physics_candidates.hpp knows
 //   alpha = 0.01                      # significance of the goodness-of-fit test, (0, 0.5)
 //   hold_out = ["conical_pile"]       # setups whose recordings are predicted, never fitted
 //   probe_replicates = 2              # DEM runs per setup at the base fit with the candidate
@@ -22,14 +22,14 @@
 //   upper = 5e-3
 //   probe = 2e-3
 
-#include "cli/toml_reader.hpp"
+#include "config/toml_reader.hpp"
 
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::config {
 
 struct CandidateRange {
   std::optional<double> lower, upper, probe;
@@ -51,4 +51,4 @@ struct DiagnosisConfig {
 // Reads [diagnosis] if present; `setups` are the study's apparatus names (for hold_out).
 std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::vector<std::string>& setups);
 
-}  // namespace demcal::cli
+}  // namespace demcal::config
