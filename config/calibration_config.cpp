@@ -6,13 +6,15 @@
 
 namespace demcal::config {
 
-std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
+std::optional<CalibrationConfig> read_calibration(reader::Table& root,
+                                                  const std::string& study_file,
                                                   const std::optional<DesignConfig>& design) {
   if (!root.has("calibration")) return std::nullopt;
   reader::Table t = root.table("calibration");
   CalibrationConfig c;
   const std::string rec = t.string("recordings");
-  if (rec.empty()) t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
+  if (rec.empty())
+    t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
   const std::filesystem::path p(rec);
   c.recordings = p.is_absolute() ? p : std::filesystem::path(study_file).parent_path() / p;
   if (t.has("alone")) {
@@ -26,12 +28,14 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
   c.mcmc_samples = static_cast<int>(t.integer_or("mcmc_samples", 20000, 0, 10000000));
   c.mcmc_burn_in = static_cast<int>(t.integer_or("mcmc_burn_in", 4000, 0, 10000000));
   c.mcmc_chains = static_cast<int>(t.integer_or("mcmc_chains", 2, 1, 16));
-  c.seed = static_cast<std::uint64_t>(t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  c.seed = static_cast<std::uint64_t>(
+      t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   const std::string verify = t.string_or("verify", "");
   if (!verify.empty()) {
     const std::filesystem::path v(verify);
     c.verify = v.is_absolute() ? v : std::filesystem::path(study_file).parent_path() / v;
-    if (!std::filesystem::exists(c.verify)) t.fail("verify", "no such study config: " + c.verify.string());
+    if (!std::filesystem::exists(c.verify))
+      t.fail("verify", "no such study config: " + c.verify.string());
   }
   c.reference_label = t.string_or("reference_label", "");
   c.reference_point = t.numbers_or_empty("reference_point");
@@ -43,11 +47,11 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std
     // (A diagnosis' extended design adds a parameter after those the point gives.)
     for (std::size_t k = 0; k < params.size() && k < c.reference_point.size(); ++k)
       if (c.reference_point[k] < params[k].lower || c.reference_point[k] > params[k].upper)
-        t.fail("reference_point", "entry " + std::to_string(k) + " (" + params[k].name + ") is " +
-                                      reader::format_number(c.reference_point[k]) +
-                                      ", outside the design box [" + reader::format_number(params[k].lower) +
-                                      ", " + reader::format_number(params[k].upper) +
-                                      "]; the surrogates say nothing there");
+        t.fail("reference_point",
+               "entry " + std::to_string(k) + " (" + params[k].name + ") is " +
+                   reader::format_number(c.reference_point[k]) + ", outside the design box [" +
+                   reader::format_number(params[k].lower) + ", " +
+                   reader::format_number(params[k].upper) + "]; the surrogates say nothing there");
   }
   t.finish();
   return c;

@@ -47,7 +47,8 @@ struct CalibrationConfig {
 };
 
 // `design`: the study's, when it has one; the reference point must lie in its box.
-std::optional<CalibrationConfig> read_calibration(reader::Table& root, const std::string& study_file,
-                                                  const std::optional<DesignConfig>& design = std::nullopt);
+std::optional<CalibrationConfig> read_calibration(
+    reader::Table& root, const std::string& study_file,
+    const std::optional<DesignConfig>& design = std::nullopt);
 
 }  // namespace demcal::config

@@ -4,11 +4,11 @@
 #include "surrogate/sobol_design.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <fstream>
-#include <sstream>
 #include <limits>
+#include <sstream>
 #include <utility>
 
 namespace demcal::config {
@@ -28,7 +28,6 @@ constexpr double kMaxDesignRuns = 5000;
 std::string first_segment(const std::string& path) {
   return path.substr(0, std::min(path.find_first_of(".["), path.size()));
 }
-
 
 }  // namespace
 
@@ -75,8 +74,9 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
 
   if (list) {
     if (d.contains("points"))
-      d.fail("points", "applies only to kind = \"latin_hypercube\" or \"sobol\"; a list design "
-                       "runs the points of design.values");
+      d.fail("points",
+             "applies only to kind = \"latin_hypercube\" or \"sobol\"; a list design "
+             "runs the points of design.values");
   } else if (factorial) {
     if (d.contains("points"))
       d.fail("points",
@@ -126,18 +126,20 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     if (auto a = aliases.find(name); a != aliases.end()) target = a->second;
     const std::string head = first_segment(target);
     if (target.empty() || head.empty())
-      ctx.raise(line, path_text, "expected a key of the study, e.g. mu_r or apparatus.<name>.<key>");
+      ctx.raise(line, path_text,
+                "expected a key of the study, e.g. mu_r or apparatus.<name>.<key>");
     if (head == "study")
       ctx.raise(line, path_text,
                 "cannot vary [study] keys: each replicate's seed is study.seed + replicate, and "
                 "the threads per run are `demcal doe --threads-per-run`");
-    if (head == "output") ctx.raise(line, path_text, "cannot vary [output] keys: they do not change a run");
+    if (head == "output")
+      ctx.raise(line, path_text, "cannot vary [output] keys: they do not change a run");
     if (head == "design") ctx.raise(line, path_text, "cannot vary the design itself");
     for (std::size_t i = 0; i < out.parameter_paths.size(); ++i)
       if (out.parameter_paths[i] == target)
-        ctx.raise(line, path_text,
-                  "sets " + target + ", as parameter \"" + spec.parameters[i].name +
-                      "\" does already");
+        ctx.raise(
+            line, path_text,
+            "sets " + target + ", as parameter \"" + spec.parameters[i].name + "\" does already");
 
     surrogate::ParameterRange r;
     r.name = name;
@@ -153,7 +155,8 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
         if (auto a = aliases.find(key); a != aliases.end()) k = a->second;
         const std::string h = first_segment(k);
         if (k.empty() || h == "study" || h == "output" || h == "design" || k == target)
-          t.fail("also_sets", "expected keys of the study other than the parameter's own, got \"" + key + "\"");
+          t.fail("also_sets",
+                 "expected keys of the study other than the parameter's own, got \"" + key + "\"");
         tied.push_back(k);
       }
     }
@@ -174,28 +177,35 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     const toml::node* vn = dt.get("values");
     const std::size_t vline = vn ? node_line(*vn, d.line()) : d.line();
     const toml::array* rows = vn ? vn->as_array() : nullptr;
-    const std::string expected = "an array of points [[" + spec.parameters.front().name +
-                                 (spec.parameters.size() > 1 ? ", " + spec.parameters[1].name : std::string()) +
-                                 (spec.parameters.size() > 2 ? ", ..." : "") + "], ...]";
+    const std::string expected =
+        "an array of points [[" + spec.parameters.front().name +
+        (spec.parameters.size() > 1 ? ", " + spec.parameters[1].name : std::string()) +
+        (spec.parameters.size() > 2 ? ", ..." : "") + "], ...]";
     if (rows == nullptr || rows->empty())
-      ctx.raise(vline, d.path() + ".values", "expected " + expected + (vn ? ", got " + describe_value(*vn) : ""));
+      ctx.raise(vline, d.path() + ".values",
+                "expected " + expected + (vn ? ", got " + describe_value(*vn) : ""));
     if (rows->size() > static_cast<std::size_t>(kMaxPoints))
-      ctx.raise(vline, d.path() + ".values", "expected at most " + std::to_string(kMaxPoints) + " points");
+      ctx.raise(vline, d.path() + ".values",
+                "expected at most " + std::to_string(kMaxPoints) + " points");
     for (std::size_t i = 0; i < rows->size(); ++i) {
       const toml::array* row = (*rows)[i].as_array();
       const std::string where = d.path() + ".values[" + std::to_string(i) + "]";
       if (row == nullptr || row->size() != spec.parameters.size())
-        ctx.raise(vline, where, "expected " + std::to_string(spec.parameters.size()) + " numbers (one per parameter: " +
-                                    expected + "), got " + describe_value((*rows)[i]));
+        ctx.raise(vline, where,
+                  "expected " + std::to_string(spec.parameters.size()) +
+                      " numbers (one per parameter: " + expected + "), got " +
+                      describe_value((*rows)[i]));
       std::vector<double> v;
       for (std::size_t k = 0; k < row->size(); ++k) {
         const auto x = (*row)[k].value<double>();
         const auto& r = spec.parameters[k];
         if (!x || !std::isfinite(*x))
-          ctx.raise(vline, where, r.name + ": expected a finite number, got " + describe_value((*row)[k]));
+          ctx.raise(vline, where,
+                    r.name + ": expected a finite number, got " + describe_value((*row)[k]));
         if (*x < r.lower || *x > r.upper)
-          ctx.raise(vline, where, r.name + " = " + format_number(*x) + " is outside its bounds [" +
-                                      format_number(r.lower) + ", " + format_number(r.upper) + "]");
+          ctx.raise(vline, where,
+                    r.name + " = " + format_number(*x) + " is outside its bounds [" +
+                        format_number(r.lower) + ", " + format_number(r.upper) + "]");
         v.push_back(*x);
       }
       spec.values.push_back(std::move(v));
@@ -216,10 +226,13 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
                                     : static_cast<double>(spec.points);
     const double runs = points * out.replicates;
     if (runs > kMaxDesignRuns)
-      d.fail(factorial ? "parameters" : list ? "values" : "points",
-             "the design has " + format_number(points) + " points x " + std::to_string(out.replicates) +
-                 " replicates = " + format_number(runs) + " runs per apparatus, more than " +
-                 format_number(kMaxDesignRuns) + "; split it into several studies or use fewer points");
+      d.fail(factorial ? "parameters"
+             : list    ? "values"
+                       : "points",
+             "the design has " + format_number(points) + " points x " +
+                 std::to_string(out.replicates) + " replicates = " + format_number(runs) +
+                 " runs per apparatus, more than " + format_number(kMaxDesignRuns) +
+                 "; split it into several studies or use fewer points");
   }
   if (sobol && spec.parameters.size() > surrogate::kSobolMaxDimensions)
     d.fail("parameters", "a sobol design takes at most " +
@@ -233,14 +246,16 @@ void apply_design_values(ConfigDocument& doc, const DesignConfig& design,
                          const std::vector<double>& values, const std::string& origin) {
   const auto& params = design.spec.parameters;
   for (std::size_t i = 0; i < params.size() && i < values.size(); ++i)
-    set_parameter(doc, design, i, values[i], origin + ": " + params[i].name + " = " + shortest_decimal(values[i]));
+    set_parameter(doc, design, i, values[i],
+                  origin + ": " + params[i].name + " = " + shortest_decimal(values[i]));
 }
 
 void set_parameter(ConfigDocument& doc, const DesignConfig& design, std::size_t i, double value,
                    const std::string& origin) {
   set_config_value(doc, design.parameter_paths[i], toml::value<double>(value), origin);
   if (i < design.tied_paths.size())
-    for (const auto& key : design.tied_paths[i]) set_config_value(doc, key, toml::value<double>(value), origin);
+    for (const auto& key : design.tied_paths[i])
+      set_config_value(doc, key, toml::value<double>(value), origin);
 }
 
 StudySource StudySource::read(const std::filesystem::path& path,

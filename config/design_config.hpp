@@ -47,10 +47,10 @@
 namespace demcal::config {
 
 struct DesignConfig {
-  surrogate::DesignSpec spec;              // parameter names as written
-  std::vector<std::string> parameter_paths;  // the dotted key each sets (aliases resolved)
+  surrogate::DesignSpec spec;                        // parameter names as written
+  std::vector<std::string> parameter_paths;          // the dotted key each sets (aliases resolved)
   std::vector<std::vector<std::string>> tied_paths;  // per parameter: its also_sets keys
-  std::vector<std::size_t> parameter_lines;  // where each is written, for messages
+  std::vector<std::size_t> parameter_lines;          // where each is written, for messages
   int replicates = 1;
   std::size_t line = 0;  // of [design]
 };

@@ -4,14 +4,16 @@
 
 namespace demcal::config {
 
-std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::vector<std::string>& setups) {
+std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
+                                              const std::vector<std::string>& setups) {
   if (!root.has("diagnosis")) return std::nullopt;
   reader::Table t = root.table("diagnosis");
   DiagnosisConfig c;
   c.line = t.line();
   const std::vector<std::string> names = physics_candidate_names();
   c.candidates = t.strings_or("candidates", names, names);
-  if (c.candidates.empty()) t.fail("candidates", "expected at least one of " + reader::quoted_list(names));
+  if (c.candidates.empty())
+    t.fail("candidates", "expected at least one of " + reader::quoted_list(names));
   c.alpha = t.number_or("alpha", 0.01, reader::between(0, true, 0.5, true));
   c.hold_out = t.strings_or("hold_out", setups, {});
   if (c.hold_out.size() >= setups.size() && !setups.empty())

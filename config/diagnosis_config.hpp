@@ -38,7 +38,7 @@ struct CandidateRange {
 struct DiagnosisConfig {
   std::vector<std::string> candidates;  // names, in the order to report
   double alpha = 0.01;
-  std::vector<std::string> hold_out;    // setup names
+  std::vector<std::string> hold_out;  // setup names
   int probe_replicates = 2;
   int leading = 2;
   int extended_points = 16;
@@ -49,6 +49,7 @@ struct DiagnosisConfig {
 };
 
 // Reads [diagnosis] if present; `setups` are the study's apparatus names (for hold_out).
-std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root, const std::vector<std::string>& setups);
+std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
+                                              const std::vector<std::string>& setups);
 
 }  // namespace demcal::config

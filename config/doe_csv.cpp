@@ -17,10 +17,13 @@ namespace {
   throw ConfigError(file + ":" + std::to_string(line) + ": " + what);
 }
 
-double parse_number(const std::string& text, const std::string& file, std::size_t line, const std::string& column) {
+double parse_number(const std::string& text, const std::string& file, std::size_t line,
+                    const std::string& column) {
   if (text.empty()) return std::numeric_limits<double>::quiet_NaN();
   const auto v = parse_csv_number(text);
-  if (!v) fail(file, line, "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
+  if (!v)
+    fail(file, line,
+         "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
   return *v;
 }
 
@@ -33,8 +36,9 @@ double whole_number(const std::string& text, const std::string& file, std::size_
                     const std::string& column, double max) {
   const double v = parse_number(text, file, line, column);
   if (std::isnan(v) || v < 0 || v > max || v != std::floor(v))
-    fail(file, line, "column " + column + ": expected a whole number in [0, " +
-                         std::to_string(static_cast<long long>(max)) + "], got \"" + text + "\"");
+    fail(file, line,
+         "column " + column + ": expected a whole number in [0, " +
+             std::to_string(static_cast<long long>(max)) + "], got \"" + text + "\"");
   return v;
 }
 
@@ -108,7 +112,10 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 
 DoeCsv read_doe_csv(const std::filesystem::path& path) {
   std::ifstream in(path);
-  if (!in) throw ConfigError(path.string() + ": cannot open the design table (run `demcal doe` first, or give --doe FILE)");
+  if (!in)
+    throw ConfigError(
+        path.string() +
+        ": cannot open the design table (run `demcal doe` first, or give --doe FILE)");
   return read_doe_csv(in, path.string());
 }
 
@@ -138,7 +145,8 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file) {
     t.observable_names.push_back(name);
   }
   const std::size_t first_obs = *std::min_element(c_obs.begin(), c_obs.end());
-  if (first_obs <= c_app + 1) fail(t.file, 1, "no parameter columns between \"apparatus\" and the observables");
+  if (first_obs <= c_app + 1)
+    fail(t.file, 1, "no parameter columns between \"apparatus\" and the observables");
   std::vector<std::size_t> c_par;
   for (std::size_t c = c_app + 1; c < first_obs; ++c) {
     c_par.push_back(c);
@@ -151,8 +159,9 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file) {
     if (line.empty() || line == "\r") continue;
     const auto f = split_csv_line(line);
     if (f.size() != header.size())
-      fail(t.file, n, "expected " + std::to_string(header.size()) + " fields like the header, got " +
-                          std::to_string(f.size()));
+      fail(t.file, n,
+           "expected " + std::to_string(header.size()) + " fields like the header, got " +
+               std::to_string(f.size()));
     DoeCsvRow r;
     r.line = n;
     r.point = static_cast<int>(whole_number(f[c_point], t.file, n, "point", kMaxIndex));
@@ -160,32 +169,37 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file) {
     r.seed = static_cast<std::uint64_t>(whole_number(f[c_seed], t.file, n, "seed", kMaxSeed));
     r.apparatus = f[c_app];
     if (const std::string why = reader::file_name_problem(r.apparatus); !why.empty())
-      fail(t.file, n, "column apparatus: \"" + printable(r.apparatus) +
-                          "\" cannot be a setup name (it names files): " + why);
+      fail(t.file, n,
+           "column apparatus: \"" + printable(r.apparatus) +
+               "\" cannot be a setup name (it names files): " + why);
     for (std::size_t k = 0; k < c_par.size(); ++k) {
       const double v = parse_number(f[c_par[k]], t.file, n, t.parameter_names[k]);
-      if (std::isnan(v)) fail(t.file, n, "column " + t.parameter_names[k] + ": a parameter value is required");
+      if (std::isnan(v))
+        fail(t.file, n, "column " + t.parameter_names[k] + ": a parameter value is required");
       r.parameters.push_back(v);
     }
     for (std::size_t k = 0; k < c_obs.size(); ++k) {
       const double v = parse_number(f[c_obs[k]], t.file, n, t.observable_names[k]);
       if (!std::isnan(v) && !observable_in_range(t.observable_names[k], v))
-        fail(t.file, n, "column " + t.observable_names[k] + ": expected " +
-                            observable_range_text(t.observable_names[k]) + " or an empty cell, got " +
-                            f[c_obs[k]]);
+        fail(t.file, n,
+             "column " + t.observable_names[k] + ": expected " +
+                 observable_range_text(t.observable_names[k]) + " or an empty cell, got " +
+                 f[c_obs[k]]);
       r.observables.push_back(v);
     }
     r.status = f[c_status];
     if (r.status != "ok" && r.status != "failed" && r.status != "missing")
-      fail(t.file, n, "column status: expected \"ok\", \"failed\" or \"missing\", got \"" +
-                          printable(r.status) + "\"");
+      fail(t.file, n,
+           "column status: expected \"ok\", \"failed\" or \"missing\", got \"" +
+               printable(r.status) + "\"");
     r.hash = f[c_hash];
     // A row twice would count as an extra replicate of its point.
     const auto [it, fresh] = seen.try_emplace(std::tuple(r.apparatus, r.point, r.replicate), n);
     if (!fresh)
-      fail(t.file, n, "point " + std::to_string(r.point) + " replicate " + std::to_string(r.replicate) +
-                          " of " + r.apparatus + " is already on line " + std::to_string(it->second) +
-                          "; each run appears once");
+      fail(t.file, n,
+           "point " + std::to_string(r.point) + " replicate " + std::to_string(r.replicate) +
+               " of " + r.apparatus + " is already on line " + std::to_string(it->second) +
+               "; each run appears once");
     t.rows.push_back(std::move(r));
   }
   return t;

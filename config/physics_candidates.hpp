@@ -18,9 +18,9 @@
 namespace demcal::config {
 
 struct PhysicsCandidate {
-  std::string name;        // "cohesion"
-  std::string summary;     // "cohesion (JKR surface energy between grains and with the walls)"
-  std::string parameter;   // the design parameter's name, e.g. "surface_energy_j_m2"
+  std::string name;       // "cohesion"
+  std::string summary;    // "cohesion (JKR surface energy between grains and with the walls)"
+  std::string parameter;  // the design parameter's name, e.g. "surface_energy_j_m2"
   std::vector<std::string> keys;  // study keys the parameter sets, all to its value
   // key = value (strings) that switch the part on, e.g. contact.adhesion = "jkr".
   std::vector<std::pair<std::string, std::string>> switches;

@@ -28,10 +28,12 @@ namespace demcal::config {
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
                                                       const std::vector<std::string>& setups);
 // The same from a stream; `file` names it in messages (fuzzing, tests).
-std::vector<calibrate::Recording> read_recordings_csv(std::istream& in, const std::filesystem::path& file,
+std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
+                                                      const std::filesystem::path& file,
                                                       const std::vector<std::string>& setups);
 
-calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path, const std::string& setup);
+calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path,
+                                          const std::string& setup);
 calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesystem::path& path,
                                           const std::string& setup);
 

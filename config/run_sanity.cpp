@@ -30,8 +30,8 @@ dem::Material reduced_particle(const dem::GranularMaterial& material,
 
 }  // namespace
 
-RunEstimate estimate_run(const dem::GranularMaterial& material, const dem::ModelReduction& reduction,
-                         const dem::RunProtocol& protocol) {
+RunEstimate estimate_run(const dem::GranularMaterial& material,
+                         const dem::ModelReduction& reduction, const dem::RunProtocol& protocol) {
   RunEstimate e;
   const dem::Material particle = reduced_particle(material, reduction);
   const double radius = 0.5 * material.sizes->min_diameter_m() * reduction.coarse_graining_factor;
@@ -51,11 +51,11 @@ void check_rest_protocol(reader::Table& t, const dem::RunProtocol& p,
   const double d = dem::mean_diameter_m(*material.sizes);
   const double fastest_rest = std::sqrt(2.0 * kStandardGravity * d / 10.0);
   if (p.rest_speed_m_s > fastest_rest)
-    t.fail("rest_speed_m_s",
-           "expected at most " + format_number(fastest_rest) +
-               " m/s (the speed a grain of the mean diameter " + format_number(d) +
-               " m gains falling a tenth of it), got " + format_number(p.rest_speed_m_s) +
-               ": a heap still moving that fast would be declared at rest");
+    t.fail("rest_speed_m_s", "expected at most " + format_number(fastest_rest) +
+                                 " m/s (the speed a grain of the mean diameter " +
+                                 format_number(d) + " m gains falling a tenth of it), got " +
+                                 format_number(p.rest_speed_m_s) +
+                                 ": a heap still moving that fast would be declared at rest");
   const double finest = p.rest_speed_m_s / kStandardGravity;
   if (p.check_interval_s < finest)
     t.fail("check_interval_s",
@@ -71,25 +71,27 @@ void check_run_estimate(reader::Table& t, const dem::GranularMaterial& material,
   const RunEstimate e = estimate_run(material, reduction, protocol);
   const bool own_modulus = reduction.shear_modulus_pa > 0.0;
   const std::string modulus_text =
-      own_modulus ? t.key_path("shear_modulus_pa") + " = " + format_number(reduction.shear_modulus_pa)
-                  : "the material's modulus (E = " +
-                        format_number(material.particle.youngs_modulus()) + " Pa)";
+      own_modulus
+          ? t.key_path("shear_modulus_pa") + " = " + format_number(reduction.shear_modulus_pa)
+          : "the material's modulus (E = " + format_number(material.particle.youngs_modulus()) +
+                " Pa)";
   if (!(e.impact_overlap_fraction <= kMaxOverlapFraction)) {
-    const std::string what =
-        "with " + modulus_text + " two grains colliding at " + format_number(kImpactSpeed_m_s) +
-        " m/s would overlap by " + format_number(std::round(e.impact_overlap_fraction * 1000) / 10) +
-        " % of their diameter (Hertz); expected at most " +
-        format_number(kMaxOverlapFraction * 100) + " %: raise the modulus";
+    const std::string what = "with " + modulus_text + " two grains colliding at " +
+                             format_number(kImpactSpeed_m_s) + " m/s would overlap by " +
+                             format_number(std::round(e.impact_overlap_fraction * 1000) / 10) +
+                             " % of their diameter (Hertz); expected at most " +
+                             format_number(kMaxOverlapFraction * 100) + " %: raise the modulus";
     if (own_modulus) t.fail("shear_modulus_pa", what);
     t.fail_here(what);
   }
   if (!(e.max_steps <= max_steps)) {
-    const std::string what =
-        "a run would take up to " + format_number(e.max_steps) + " time steps (dt = " +
-        format_number(e.time_step_s) + " s from " + modulus_text +
-        " and the smallest grain; 2 max_settle_s + max_flow_s = " +
-        format_number(e.max_simulated_s) + " s); the cap is protocol.max_steps = " +
-        format_number(max_steps) + ": lower the modulus or raise protocol.max_steps";
+    const std::string what = "a run would take up to " + format_number(e.max_steps) +
+                             " time steps (dt = " + format_number(e.time_step_s) + " s from " +
+                             modulus_text +
+                             " and the smallest grain; 2 max_settle_s + max_flow_s = " +
+                             format_number(e.max_simulated_s) +
+                             " s); the cap is protocol.max_steps = " + format_number(max_steps) +
+                             ": lower the modulus or raise protocol.max_steps";
     if (own_modulus) t.fail("shear_modulus_pa", what);
     t.fail_here(what);
   }
@@ -102,20 +104,21 @@ void check_grain_count(reader::Table& t, const dem::GranularMaterial& material,
                           material.sizes->mean_diameter_cubed_m3() * f * f * f;
   const double grains = fill_mass_kg / grain_kg;
   if (!(grains <= kMaxGrains))
-    t.fail("fill_mass_kg", "expected at most " + format_number(kMaxGrains) + " grains' worth, got " +
-                               format_number(fill_mass_kg) + " kg = " + format_number(grains) +
-                               " grains of " + format_number(grain_kg) +
-                               " kg; coarse-grain (coarse_graining_factor) or fill less");
+    t.fail("fill_mass_kg",
+           "expected at most " + format_number(kMaxGrains) + " grains' worth, got " +
+               format_number(fill_mass_kg) + " kg = " + format_number(grains) + " grains of " +
+               format_number(grain_kg) + " kg; coarse-grain (coarse_graining_factor) or fill less");
 }
 
 void check_cone_height(reader::Table& t, std::string_view angle_key, double wide_m, double narrow_m,
                        double half_angle_deg) {
-  const double height = 0.5 * std::fabs(wide_m - narrow_m) / std::tan(half_angle_deg * std::numbers::pi / 180.0);
+  const double height =
+      0.5 * std::fabs(wide_m - narrow_m) / std::tan(half_angle_deg * std::numbers::pi / 180.0);
   if (!(height <= kMaxApparatusExtent_m))
     t.fail(angle_key, "expected a half angle that keeps the cone at most " +
                           format_number(kMaxApparatusExtent_m) + " m tall, got " +
-                          format_number(half_angle_deg) + " deg, which makes it " + format_number(height) +
-                          " m tall");
+                          format_number(half_angle_deg) + " deg, which makes it " +
+                          format_number(height) + " m tall");
 }
 
 void check_apparatus_extent(reader::Table& t, const dem::Apparatus& apparatus) {

@@ -45,8 +45,8 @@ struct RunEstimate {
   double impact_overlap_fraction = 0.0;  // of the diameter, at kImpactSpeed_m_s
 };
 
-RunEstimate estimate_run(const dem::GranularMaterial& material, const dem::ModelReduction& reduction,
-                         const dem::RunProtocol& protocol);
+RunEstimate estimate_run(const dem::GranularMaterial& material,
+                         const dem::ModelReduction& reduction, const dem::RunProtocol& protocol);
 
 // The rest-check rules, at the [protocol] table's keys.
 void check_rest_protocol(reader::Table& protocol_table, const dem::RunProtocol& protocol,

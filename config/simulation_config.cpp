@@ -329,13 +329,14 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   // As for a study's protocol (config/run_sanity.hpp): a grain released from rest
   // reaches rest_speed_m_s only after rest_speed_m_s / g; a finer check declares
   // a falling fill at rest.
-  if (const double g = dem::norm(gravity); out.run.stop_at_rest && g > 0.0 &&
-                                           out.run.check_interval_s < out.run.rest_speed_m_s / g)
-    run_t.fail("check_interval_s",
-               "expected at least rest_speed_m_s / g = " + format_number(out.run.rest_speed_m_s / g) +
-                   " s, got " + format_number(out.run.check_interval_s) +
-                   ": a check finer than the dynamics declares a fill at rest while it is still "
-                   "falling (a grain released from rest needs that long to reach rest_speed_m_s)");
+  if (const double g = dem::norm(gravity);
+      out.run.stop_at_rest && g > 0.0 && out.run.check_interval_s < out.run.rest_speed_m_s / g)
+    run_t.fail(
+        "check_interval_s",
+        "expected at least rest_speed_m_s / g = " + format_number(out.run.rest_speed_m_s / g) +
+            " s, got " + format_number(out.run.check_interval_s) +
+            ": a check finer than the dynamics declares a fill at rest while it is still "
+            "falling (a grain released from rest needs that long to reach rest_speed_m_s)");
   run_t.finish();
 
   // [output]

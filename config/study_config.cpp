@@ -5,9 +5,9 @@
 #include "config/surrogate_config.hpp"
 
 #include "dem/apparatus/conical_pile.hpp"
-#include "dem/contact/restitution_damping.hpp"
 #include "dem/apparatus/rectangular_container.hpp"
 #include "dem/apparatus/sandglass.hpp"
+#include "dem/contact/restitution_damping.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -28,8 +28,7 @@ std::size_t find_identifier(const std::string& text, const std::string& key) {
   auto ident = [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
   };
-  for (std::size_t pos = text.find(key); pos != std::string::npos;
-       pos = text.find(key, pos + 1)) {
+  for (std::size_t pos = text.find(key); pos != std::string::npos; pos = text.find(key, pos + 1)) {
     const bool before_ok = pos == 0 || !ident(text[pos - 1]);
     const std::size_t end = pos + key.size();
     const bool after_ok = end >= text.size() || !ident(text[end]);
@@ -40,7 +39,8 @@ std::size_t find_identifier(const std::string& text, const std::string& key) {
 
 // Constructing an apparatus checks its geometry against the fill; what it
 // refuses is an input error. It is reported at the key its message names
-// first (keys with an underscore: one-word keys are also plain words) (the one the message is about: "fill_mass_kg = ... needs more than
+// first (keys with an underscore: one-word keys are also plain words) (the one the message is
+// about: "fill_mass_kg = ... needs more than
 // ..."; keys named later are suggested remedies), else at the table.
 template <class F>
 std::unique_ptr<dem::Apparatus> build_guarded(const Table& t, F&& make) {
@@ -92,8 +92,8 @@ const Range kHalfAngle = between(0, true, 80, true);
 // (a 1e6 m chamber is a slip, and its fill lattice alone would not fit in memory).
 constexpr Plausible kMaxLength{kMaxApparatusExtent_m, "no laboratory test is larger"};
 
-std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m, double max_steps,
-                                               const dem::RunProtocol& p) {
+std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m,
+                                               double max_steps, const dem::RunProtocol& p) {
   dem::SandglassOptions o;
   o.upper_diameter_m = t.number_at_most("upper_diameter_m", kPositive, kMaxLength);
   o.upper_height_m = t.number_at_most("upper_height_m", kPositive, kMaxLength);
@@ -115,9 +115,9 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
                 "is wrong)");
   o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
   o.form_pile = t.boolean_or("form_pile", o.form_pile);
-  o.fill_lattice_spacing_diameters = t.number_or("fill_lattice_spacing_diameters",
-                                                 o.fill_lattice_spacing_diameters,
-                                                 between(1, true, 3, false));
+  o.fill_lattice_spacing_diameters =
+      t.number_or("fill_lattice_spacing_diameters", o.fill_lattice_spacing_diameters,
+                  between(1, true, 3, false));
   o.reduction = read_reduction(t, true);
   t.finish();
   check_grain_count(t, m, o.reduction, o.fill_mass_kg);
@@ -125,8 +125,8 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
   return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
 }
 
-std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m, double max_steps,
-                                                  const dem::RunProtocol& p) {
+std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m,
+                                                  double max_steps, const dem::RunProtocol& p) {
   dem::ConicalPileOptions o;
   o.funnel_top_diameter_m = t.number_at_most("funnel_top_diameter_m", kPositive, kMaxLength);
   o.funnel_outlet_diameter_m = t.number_at_most("funnel_outlet_diameter_m", kPositive, kMaxLength);
@@ -144,8 +144,7 @@ std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularM
   return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
 }
 
-std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t,
-                                                           const dem::GranularMaterial& m,
+std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t, const dem::GranularMaterial& m,
                                                            double max_steps,
                                                            const dem::RunProtocol& p) {
   dem::RectangularContainerOptions o;
@@ -211,8 +210,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
   Table root(ctx, doc.table, "", node_line(doc.table, 1));
   // Unknown top-level tables first: a misspelt [material] would otherwise be
   // reported as a missing one.
-  for (const char* k : {"study", "material", "wall_material", "contact", "interaction", "air",
-                        "protocol", "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
+  for (const char* k :
+       {"study", "material", "wall_material", "contact", "interaction", "air", "protocol",
+        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
     root.has(k);
   root.finish();
 
@@ -224,8 +224,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // [study]
   Table study_t = root.table("study");
   out.name = read_run_name(study_t, "name");
-  protocol.seed = static_cast<std::uint64_t>(study_t.integer_or(
-      "seed", static_cast<std::int64_t>(defaults.seed), 0, std::numeric_limits<std::int64_t>::max()));
+  protocol.seed = static_cast<std::uint64_t>(
+      study_t.integer_or("seed", static_cast<std::int64_t>(defaults.seed), 0,
+                         std::numeric_limits<std::int64_t>::max()));
   protocol.threads = static_cast<int>(study_t.integer_or("threads", defaults.threads, 1, 4096));
   study_t.finish();
 
@@ -325,7 +326,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
                   ", or a setup name of your own with type = \"<kind>\"");
     // Not written in when absent: a run's hash is its resolved inputs, and the
     // runs of studies written before setups had names must keep theirs.
-    const std::string kind = !named_by_kind ? t.choice("type", kinds) : t.has("type") ? t.choice("type", {name}) : name;
+    const std::string kind = !named_by_kind  ? t.choice("type", kinds)
+                             : t.has("type") ? t.choice("type", {name})
+                                             : name;
     if (!named_by_kind && !std::all_of(name.begin(), name.end(), [](char c) {
           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
         }))
@@ -343,8 +346,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
     check_apparatus_extent(t, *a.apparatus);
     out.apparatus.push_back(std::move(a));
   }
-  std::stable_sort(out.apparatus.begin(), out.apparatus.end(),
-                   [](const StudyApparatus& a, const StudyApparatus& b) { return a.line < b.line; });
+  std::stable_sort(
+      out.apparatus.begin(), out.apparatus.end(),
+      [](const StudyApparatus& a, const StudyApparatus& b) { return a.line < b.line; });
 
   // [output]
   Table out_t = root.table_or_empty("output");
@@ -395,8 +399,7 @@ StudyApparatus& select_apparatus(StudyConfig& study, const std::optional<std::st
   if (study.apparatus.size() != 1)
     throw ConfigError(study.file + ":" + std::to_string(study.apparatus.front().line) +
                       ": apparatus: the study defines " + std::to_string(names.size()) +
-                      " apparatus (" + quoted_list(names) +
-                      "); choose one with --apparatus NAME");
+                      " apparatus (" + quoted_list(names) + "); choose one with --apparatus NAME");
   return study.apparatus.front();
 }
 

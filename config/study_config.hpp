@@ -143,22 +143,24 @@
 //   vtk = false                           # opt; snapshots cost time and disk
 //   snapshot_interval_s = 0.0             # opt, >= 0; 0 = only the final state
 //
-//   [design]                              # opt; the runs of `demcal doe` (config/design_config.hpp)
-//   kind = "full_factorial"               # "full_factorial" | "latin_hypercube" | "sobol"
-//   points = 20                           # latin_hypercube and sobol only (required there)
-//   replicates = 1                        # opt, >= 1; replicate r runs with seed study.seed + r
-//   seed = 1                              # opt, >= 0; latin_hypercube's generator seed
-//   skip = 0                              # opt, sobol only
-//   parameters = { mu_r = { lower = 0.05, upper = 0.6, levels = 5 }, ... }
+//   [design]                              # opt; the runs of `demcal doe`
+//   (config/design_config.hpp) kind = "full_factorial"               # "full_factorial" |
+//   "latin_hypercube" | "sobol" points = 20                           # latin_hypercube and sobol
+//   only (required there) replicates = 1                        # opt, >= 1; replicate r runs with
+//   seed study.seed + r seed = 1                              # opt, >= 0; latin_hypercube's
+//   generator seed skip = 0                              # opt, sobol only parameters = { mu_r = {
+//   lower = 0.05, upper = 0.6, levels = 5 }, ... }
 //                                         # any --set key (mu_r, mu_s, "apparatus.x.y");
 //                                         #   lower < upper; levels (>= 2) with full_factorial only
 //   `demcal simulate` accepts and ignores [design]: it runs the study as written.
 //
-//   [surrogate]                           # opt; what `demcal fit` fits (config/surrogate_config.hpp)
-//   model = "gaussian_process"            # | "polynomial"; further keys per model there
+//   [surrogate]                           # opt; what `demcal fit` fits
+//   (config/surrogate_config.hpp) model = "gaussian_process"            # | "polynomial"; further
+//   keys per model there
 //
-//   [calibration]                         # opt; what `demcal calibrate` fits (config/calibration_config.hpp)
-//   recordings = "recordings.csv"         # relative to this file; further keys there
+//   [calibration]                         # opt; what `demcal calibrate` fits
+//   (config/calibration_config.hpp) recordings = "recordings.csv"         # relative to this file;
+//   further keys there
 //
 // Overrides (`--set key=value`) address keys by dotted path as for plain configs
 // (config/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
@@ -177,11 +179,11 @@
 // that ran, and no [design], so two runs of the same apparatus with the same
 // inputs record the same inputs whatever else the study defines.
 
-#include "config/design_config.hpp"
 #include "config/calibration_config.hpp"
+#include "config/design_config.hpp"
 #include "config/diagnosis_config.hpp"
-#include "config/surrogate_config.hpp"
 #include "config/simulation_config.hpp"
+#include "config/surrogate_config.hpp"
 #include "config/toml_reader.hpp"
 #include "dem/apparatus/apparatus.hpp"
 #include "dem/apparatus/granular_material.hpp"
@@ -207,9 +209,9 @@ const OverrideAliases& study_override_aliases();
 bool is_study_config(const ConfigDocument& doc);
 
 struct StudyApparatus {
-  std::string name;                           // the setup: the table's name
-  std::string kind;                           // "sandglass", "conical_pile", "rectangular_container"
-  std::size_t line = 0;                       // of its table, for messages
+  std::string name;      // the setup: the table's name
+  std::string kind;      // "sandglass", "conical_pile", "rectangular_container"
+  std::size_t line = 0;  // of its table, for messages
   std::unique_ptr<dem::Apparatus> apparatus;  // built, not yet run
 };
 

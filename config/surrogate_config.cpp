@@ -17,10 +17,12 @@ std::optional<SurrogateConfig> read_surrogate(reader::Table& root) {
     if (t.contains("degree")) t.fail("degree", "applies only to model = \"polynomial\"");
     s.kernel = surrogate::covariance_kernel_from_string(
         t.choice_or("kernel", {"matern52", "squared_exponential"}, "matern52"));
-    s.mean = surrogate::mean_function_from_string(t.choice_or("mean", {"constant", "linear"}, "constant"));
+    s.mean = surrogate::mean_function_from_string(
+        t.choice_or("mean", {"constant", "linear"}, "constant"));
     s.nugget = t.choice_or("nugget", {"replicates", "estimated", "none"}, "replicates");
     s.starts = static_cast<int>(t.integer_or("starts", 8, 1, 100));
-    s.seed = static_cast<std::uint64_t>(t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+    s.seed = static_cast<std::uint64_t>(
+        t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   } else {
     for (const char* k : gp_only)
       if (t.contains(k)) t.fail(k, "applies only to model = \"gaussian_process\"");

@@ -161,7 +161,8 @@ std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
 
 std::string file_name_problem(std::string_view name) {
   if (name.empty()) return "it is empty";
-  if (name == "." || name == "..") return name == "." ? "\".\" names a directory" : "\"..\" names a directory";
+  if (name == "." || name == "..")
+    return name == "." ? "\".\" names a directory" : "\"..\" names a directory";
   for (const char c : name) {
     if (c == '/' || c == '\\') return "it holds a path separator";
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "it holds a control character";
@@ -487,6 +488,5 @@ void apply_override(ConfigDocument& doc, std::string_view assignment,
   }
   set_config_value(doc, path, std::move(*parsed.get("v")), origin);
 }
-
 
 }  // namespace demcal::config

@@ -195,7 +195,8 @@ class Table {
   double number_at_most(std::string_view key, Range r, Plausible p) {
     const double v = number(key, r);
     if (v > p.max)
-      fail(key, "expected at most " + format_number(p.max) + " (" + p.why + "), got " + format_number(v));
+      fail(key, "expected at most " + format_number(p.max) + " (" + p.why + "), got " +
+                    format_number(v));
     return v;
   }
   double number_or(std::string_view key, double fallback, Range r) {
@@ -248,7 +249,8 @@ class Table {
     std::vector<double> out;
     for (std::size_t i = 0; i < a->size(); ++i) {
       const auto v = (*a)[i].value<double>();
-      if (!v || !std::isfinite(*v)) fail(key, "entry " + std::to_string(i) + ": expected a finite number");
+      if (!v || !std::isfinite(*v))
+        fail(key, "entry " + std::to_string(i) + ": expected a finite number");
       out.push_back(*v);
     }
     return out;
@@ -260,7 +262,8 @@ class Table {
                                       const std::vector<std::string>& fallback) {
     const toml::node* n = lookup(key);
     const std::string expected =
-        "an array of strings" + (options.empty() ? std::string() : ", each one of " + quoted_list(options));
+        "an array of strings" +
+        (options.empty() ? std::string() : ", each one of " + quoted_list(options));
     if (n == nullptr) {
       toml::array a;
       for (const auto& f : fallback) a.push_back(f);
@@ -274,7 +277,8 @@ class Table {
       const auto v = (*a)[i].value<std::string>();
       if (!v) fail(key, "entry " + std::to_string(i) + ": expected " + expected);
       if (!options.empty() && std::find(options.begin(), options.end(), *v) == options.end())
-        fail(key, "entry " + std::to_string(i) + " is \"" + *v + "\"; expected one of " + quoted_list(options));
+        fail(key, "entry " + std::to_string(i) + " is \"" + *v + "\"; expected one of " +
+                      quoted_list(options));
       if (std::find(out.begin(), out.end(), *v) != out.end())
         fail(key, "\"" + *v + "\" is listed twice");
       out.push_back(*v);
@@ -395,8 +399,8 @@ class Table {
       if (std::find(known_.begin(), known_.end(), other) == known_.end() &&
           edit_distance(other, key) <= 2)
         ctx_->raise(line_of(&v), key_path(key),
-                    "missing required key; expected " + expected + "; is \"" +
-                        std::string(other) + "\" a misspelling of it?");
+                    "missing required key; expected " + expected + "; is \"" + std::string(other) +
+                        "\" a misspelling of it?");
     }
     fail(key, "missing required key; expected " + expected);
   }
@@ -492,7 +496,6 @@ std::string file_name_problem(std::string_view name);
 
 // A name that also names an output directory: non-empty, no '/'.
 std::string read_run_name(Table& t, std::string_view key);
-
 
 // The schema pieces both config kinds share. Each reads its keys (the caller
 // reads any others, e.g. a material's name, and calls finish()) and checks
