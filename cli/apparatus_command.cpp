@@ -1,6 +1,6 @@
 #include "cli/apparatus_command.hpp"
 
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 #include "config/study_config.hpp"
 #include "dem/output/vtk_writer.hpp"
 #include "dem/simulation.hpp"
@@ -19,6 +19,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -5,10 +5,11 @@
 #include "calibrate/report/calibration_report.hpp"
 #include "calibrate/report/labels.hpp"
 #include "config/calibration_config.hpp"
-#include "cli/calibration_targets.hpp"
+#include "study/calibration_targets.hpp"
 #include "cli/console.hpp"
 #include "config/recordings_csv.hpp"
-#include "cli/run_store.hpp"
+#include "study/run_store.hpp"
+#include "study/stage_cache.hpp"
 #include "cli/simulate_command.hpp"
 #include "config/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
@@ -22,6 +23,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 namespace fs = std::filesystem;
@@ -159,35 +161,6 @@ CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::os
 
 namespace {
 
-// The digest of a stage's inputs: when it equals the stored one and the
-// stage's outputs exist, the stage is skipped.
-struct Stages {
-  fs::path file;
-  nlohmann::json j = nlohmann::json::object();
-  explicit Stages(fs::path f) : file(std::move(f)) {
-    std::ifstream in(file);
-    if (in) {
-      try {
-        j = nlohmann::json::parse(in);
-      } catch (const std::exception&) {
-        j = nlohmann::json::object();  // unreadable: every stage reruns
-      }
-    }
-  }
-  // Up to date: the inputs' digest is the one recorded, and the outputs on
-  // disk are the ones the stage wrote (not edited, not left half by a failure).
-  bool current(const std::string& stage, const std::string& digest, const fs::path& outputs) const {
-    const std::string key = stage + ".outputs";
-    return j.contains(stage) && j[stage] == digest && j.contains(key) && fs::exists(outputs) &&
-           j[key] == directory_digest(outputs);
-  }
-  void done(const std::string& stage, const std::string& digest, const fs::path& outputs) {
-    j[stage] = digest;
-    j[stage + ".outputs"] = directory_digest(outputs);
-    dem::write_file_atomically(file, j.dump(1) + "\n");
-  }
-};
-
 std::string table_text(const toml::table& t, const char* key) {
   std::ostringstream s;
   if (const auto* n = t.get(key)) s << toml::toml_formatter(toml::table{{key, *n}});
@@ -204,7 +177,7 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
   }
   StudyConfig study = load_study_config(o.doe.study, o.doe.overrides);
   const fs::path dir = study_directory(o.doe.output_dir, study.name);
-  Stages stages(dir / "stages.json");
+  StageCache stages(dir / "stages.json");
   FitOptions fo;
   fo.study = o.doe.study;
   fo.overrides = o.doe.overrides;
@@ -217,8 +190,8 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
   if (o.force || !stages.current("fit", fit_digest, surrogates)) {
     fit(fo, out, log);
     stages.done("fit", fit_digest, surrogates);
-    stages.j.erase("inspect");
-    stages.j.erase("calibrate");
+    stages.forget("inspect");
+    stages.forget("calibrate");
   } else {
     log << "fit: up to date (doe.csv, [surrogate] and the surrogate files unchanged)\n";
   }

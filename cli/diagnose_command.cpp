@@ -4,7 +4,7 @@
 #include "calibrate/report/figures.hpp"
 #include "calibrate/report/html_report.hpp"
 #include "cli/calibrate_command.hpp"
-#include "cli/calibration_targets.hpp"
+#include "study/calibration_targets.hpp"
 #include "config/design_config.hpp"
 #include "config/diagnosis_config.hpp"
 #include "cli/doe_command.hpp"
@@ -27,6 +27,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include "cli/doe_command.hpp"
 
-#include "cli/doe_table.hpp"
-#include "cli/run_record.hpp"
+#include "study/doe_table.hpp"
+#include "study/run_record.hpp"
 #include "config/study_config.hpp"
 #include "dem/simulation.hpp"
 
@@ -22,6 +22,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;

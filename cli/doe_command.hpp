@@ -1,7 +1,7 @@
 #pragma once
 // `demcal doe`: runs every design point x replicate x apparatus of a study
 // (its [design] table, config/design_config.hpp) into the run store
-// (cli/run_store.hpp) and writes the campaign's table (cli/doe_table.hpp).
+// (study/run_store.hpp) and writes the campaign's table (study/doe_table.hpp).
 //
 //   <output>/<study name>/runs/<hash>.json   one run record per distinct run
 //                                            (or --run-store DIR/<hash>.json)
@@ -24,7 +24,7 @@
 // cleaned up (run_store.hpp). So a campaign killed at any moment and started
 // again ends with the same store as one never interrupted.
 //
-// Splitting: the distinct runs are numbered in plan order (cli/doe_plan.hpp);
+// Splitting: the distinct runs are numbered in plan order (study/doe_plan.hpp);
 // shard i/N takes those with number % N == i, and within a shard, MPI rank r of
 // size s takes every s-th (position % s == r). Shards write no table: copy
 // their run directories together (or share one) and use collect. Under MPI
@@ -34,7 +34,7 @@
 // Determinism: a run's result depends only on its key (inputs, seed, threads
 // per run), never on jobs, shards or ranks.
 
-#include "cli/doe_plan.hpp"
+#include "study/doe_plan.hpp"
 
 #include <atomic>
 #include <cstddef>

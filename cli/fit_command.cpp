@@ -4,7 +4,8 @@
 #include "calibrate/report/labels.hpp"
 #include "cli/console.hpp"
 #include "config/doe_csv.hpp"
-#include "cli/run_store.hpp"
+#include "study/run_store.hpp"
+#include "study/stage_cache.hpp"
 #include "config/study_config.hpp"
 #include "config/toml_reader.hpp"
 #include "config/surrogate_config.hpp"
@@ -22,6 +23,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 namespace fs = std::filesystem;

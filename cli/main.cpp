@@ -6,7 +6,7 @@
 #include "cli/doe_command.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
 #include "config/simulation_config.hpp"
 
@@ -41,6 +41,8 @@ int guarded(const std::string& who, Body&& body) {
 int main(int argc, char** argv) {
   using namespace demcal::cli;
   using namespace demcal::config;
+  using namespace demcal::study;
+using namespace demcal::study;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
   app.set_version_flag("--version", "demcal " + engine_version());
   app.require_subcommand(1);

@@ -9,6 +9,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 // Variables the common launchers set in every process they start.

@@ -18,6 +18,7 @@
 namespace demcal::cli {
 
 using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;

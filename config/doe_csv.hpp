@@ -1,5 +1,5 @@
 #pragma once
-// Reading a campaign table (doe.csv, as cli/doe_table.hpp writes it, or a
+// Reading a campaign table (doe.csv, as study/doe_table.hpp writes it, or a
 // checked-in copy of one) back into numbers: what `demcal fit` fits and what
 // tests use to fit without running DEM. Header:
 //   point, replicate, seed, apparatus, <parameter columns...>,

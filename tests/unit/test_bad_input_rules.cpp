@@ -7,9 +7,10 @@
 #include "cli/doe_command.hpp"
 #include "config/doe_csv.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 #include "config/run_sanity.hpp"
-#include "cli/run_store.hpp"
+#include "study/run_store.hpp"
+#include "study/stage_cache.hpp"
 #include "config/study_config.hpp"
 #include "config/toml_reader.hpp"
 #include "dem/contact/restitution_damping.hpp"
@@ -29,6 +30,7 @@ namespace demcal::cli {
 namespace {
 
 using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -19,6 +19,7 @@ namespace demcal::cli {
 namespace {
 
 using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -7,8 +7,8 @@
 // file:line before the store is touched.
 #include "config/design_config.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/doe_plan.hpp"
-#include "cli/run_store.hpp"
+#include "study/doe_plan.hpp"
+#include "study/run_store.hpp"
 #include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
@@ -36,6 +36,7 @@ namespace demcal::cli {
 namespace {
 
 using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 // the run store's hashes of existing studies do not change).
 
 #include "config/design_config.hpp"
-#include "cli/run_store.hpp"
+#include "study/run_store.hpp"
 #include "config/simulation_config.hpp"
 #include "config/study_config.hpp"
 #include "dem/size_distribution.hpp"
@@ -23,6 +23,7 @@ namespace demcal::cli {
 namespace {
 
 using namespace demcal::config;
+using namespace demcal::study;
 
 const char* const kStudy = R"([study]
 name = "modules"

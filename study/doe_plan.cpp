@@ -1,4 +1,4 @@
-#include "cli/doe_plan.hpp"
+#include "study/doe_plan.hpp"
 
 #include "config/study_config.hpp"
 
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 using namespace demcal::config;
 namespace {
@@ -139,4 +139,4 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
   return plan;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

@@ -1,10 +1,10 @@
-#include "cli/doe_table.hpp"
+#include "study/doe_table.hpp"
 
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 
 #include <algorithm>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 using namespace demcal::config;
 namespace {
@@ -155,4 +155,4 @@ DoeTable write_doe_table(const DoePlan& plan, const RunStore& store,
   return table;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

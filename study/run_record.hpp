@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 // The DEMCAL_VERSION this library was built with ("unknown" if none).
 std::string engine_version();
@@ -73,4 +73,4 @@ void write_run_record(const std::filesystem::path& output_dir, const nlohmann::j
 std::filesystem::path write_failed_run_record(const std::filesystem::path& output_dir,
                                               const nlohmann::json& record);
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

@@ -1,4 +1,4 @@
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 
 #include "dem/output/atomic_file.hpp"
 #include "dem/simulation.hpp"
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 using namespace demcal::config;
 namespace {
@@ -212,4 +212,4 @@ std::unique_ptr<dem::VtkSeries> open_vtk_series(const std::filesystem::path& dir
   return vtk;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

@@ -16,8 +16,8 @@
 // hold nothing that depends on when or where they were written, so the same
 // store gives the same tables.
 
-#include "cli/doe_plan.hpp"
-#include "cli/run_store.hpp"
+#include "study/doe_plan.hpp"
+#include "study/run_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 struct DoeTable {
   std::string csv;
@@ -52,4 +52,4 @@ DoeTable write_doe_table(const DoePlan& plan, const RunStore& store,
 // A CSV field: quoted when it holds a comma, quote or line break.
 std::string csv_field(const std::string& text);
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

@@ -33,6 +33,8 @@
 // removed by remove_stale_temporaries (those of other hosts, on a shared file
 // system, are left alone: their writers may be alive).
 
+#include "config/canonical_json.hpp"
+#include "config/run_record_reader.hpp"
 #include "config/study_config.hpp"
 
 #include <nlohmann/json.hpp>
@@ -44,15 +46,9 @@
 #include <string>
 #include <string_view>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 inline constexpr int kRunKeyVersion = 1;
-
-// SHA-256 as 64 lowercase hex digits.
-std::string sha256_hex(std::string_view data);
-
-// The canonical text of `j` (see the hash rule above).
-std::string canonical_json(const nlohmann::json& j);
 
 struct RunKey {
   nlohmann::json key;  // the run key object
@@ -72,36 +68,9 @@ RunKey run_key_for(const config::StudyConfig& study, const std::string& apparatu
 // temporary is removed).
 void write_file_durably(const std::filesystem::path& file, std::string_view content);
 
-// SHA-256 over the regular files below `dir` (their relative paths and
-// contents, in path order); that of an empty text when `dir` does not exist.
-// What a stage's cache entry records of the files it reads and writes.
-std::string directory_digest(const std::filesystem::path& dir);
-
-// A stage's outputs are written whole into a staging directory and then put
-// in place of `target` with two renames, so that a stage that fails halfway
-// leaves the previous outputs intact: staging_directory(target) is the
-// (emptied) directory to write into, replace_directory moves it to `target`.
-std::filesystem::path staging_directory(const std::filesystem::path& target);
-void replace_directory(const std::filesystem::path& staged, const std::filesystem::path& target);
-
 // Removes the temporaries in `dir` that processes of this host left and that
 // no longer run; returns how many.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
-
-// The record in `text` when it is a complete one whose design.digest is
-// `digest`, whose design.status is "ok" or "failed", whose design.content_digest
-// (when present) matches it, and whose observables are null or numbers in
-// their physical range (an "ok" record has them); otherwise nullopt and
-// `problem` (if given) says why. What RunStore::load checks a file with.
-std::optional<nlohmann::json> parse_run_record(std::string_view text, const std::string& digest,
-                                               std::string* problem = nullptr);
-
-// SHA-256 of the record's canonical text without design.content_digest (and
-// without what the clock and the study's path change: written_utc,
-// config_file, results.wall_time_s and .particle_steps_per_s): what
-// RunStore::store writes into design.content_digest, so that a record edited
-// by hand (an AoR changed to 89, to "fourteen") is not taken for a run's.
-std::string record_content_digest(const nlohmann::json& record);
 
 class RunStore {
  public:
@@ -124,4 +93,4 @@ class RunStore {
   std::filesystem::path dir_;
 };
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

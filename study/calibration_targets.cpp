@@ -1,4 +1,4 @@
-#include "cli/calibration_targets.hpp"
+#include "study/calibration_targets.hpp"
 
 #include "config/recordings_csv.hpp"
 #include "config/toml_reader.hpp"
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <fstream>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 using namespace demcal::config;
 
@@ -81,4 +81,4 @@ std::vector<calibrate::Target> calibration_targets(const StudyConfig& study, con
   return all;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

@@ -1,12 +1,12 @@
 #pragma once
 // The plan of `demcal doe`: a study with a [design] table -> the rows of the
 // campaign (design point x replicate x apparatus, in that order) and the
-// distinct runs behind them, each with its run key (cli/run_store.hpp).
+// distinct runs behind them, each with its run key (study/run_store.hpp).
 // Making the plan builds the study at every design point, so every input
 // problem is a ConfigError before anything runs or touches the store.
 
 #include "config/design_config.hpp"
-#include "cli/run_store.hpp"
+#include "study/run_store.hpp"
 #include "config/toml_reader.hpp"
 #include "surrogate/design.hpp"
 
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 struct PlannedRun {
   RunKey key;
@@ -60,4 +60,4 @@ config::ConfigDocument run_document(const DoePlan& plan, const PlannedRun& run);
 // "mu_r = 0.1, mu_s = 0.3"
 std::string describe_point(const DoePlan& plan, std::size_t point);
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

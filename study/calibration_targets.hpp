@@ -15,7 +15,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace demcal::cli {
+namespace demcal::study {
 
 // The study's [design] parameters as calibration bounds (ConfigError without [design]).
 std::vector<calibrate::ParameterBounds> design_bounds(const config::StudyConfig& study);
@@ -36,4 +36,4 @@ calibrate::CalibrationOptions calibration_options(const config::CalibrationConfi
 // The study's recordings file, read against its apparatus names.
 std::vector<calibrate::Recording> study_recordings(const config::StudyConfig& study);
 
-}  // namespace demcal::cli
+}  // namespace demcal::study
