@@ -26,7 +26,8 @@ std::optional<nlohmann::json> parse_run_record(std::string_view text, const std:
   // Records written since the content digest exists carry it: a hand edit shows.
   if (const auto content = design->find("content_digest"); content != design->end())
     if (!content->is_string() || *content != record_content_digest(j))
-      return bad("design.content_digest does not match the record: it was changed after it was written");
+      return bad(
+          "design.content_digest does not match the record: it was changed after it was written");
   // What a design table reads from a record must be what a run writes.
   const auto observables = j.find("observables");
   if (*status == "ok" && (observables == j.end() || !observables->is_object()))
@@ -51,8 +52,11 @@ std::optional<nlohmann::json> parse_run_record(std::string_view text, const std:
           if (!x.is_number() || !std::isfinite(x.get<double>())) return false;
         return true;
       };
-      if (!numbers("time_s") || !numbers("mass_kg") || m->at("time_s").size() != m->at("mass_kg").size())
-        return bad("series.discharged_mass is not two arrays of numbers of one length, time_s and mass_kg");
+      if (!numbers("time_s") || !numbers("mass_kg") ||
+          m->at("time_s").size() != m->at("mass_kg").size())
+        return bad(
+            "series.discharged_mass is not two arrays of numbers of one length, time_s and "
+            "mass_kg");
     }
   }
   return j;
@@ -65,7 +69,8 @@ std::string record_content_digest(const nlohmann::json& record) {
     // was given as) is left out, so that their records keep one digest.
     copy.erase("written_utc");
     copy.erase("config_file");
-    if (copy.contains("design") && copy["design"].is_object()) copy["design"].erase("content_digest");
+    if (copy.contains("design") && copy["design"].is_object())
+      copy["design"].erase("content_digest");
     if (copy.contains("results") && copy["results"].is_object()) {
       copy["results"].erase("wall_time_s");
       copy["results"].erase("particle_steps_per_s");

@@ -13,7 +13,8 @@ using namespace demcal::config;
 namespace fs = std::filesystem;
 
 std::vector<calibrate::ParameterBounds> design_bounds(const StudyConfig& study) {
-  if (!study.design) throw ConfigError(study.file + ": the study has no [design] table; calibrate needs its bounds");
+  if (!study.design)
+    throw ConfigError(study.file + ": the study has no [design] table; calibrate needs its bounds");
   std::vector<calibrate::ParameterBounds> params;
   for (const auto& p : study.design->spec.parameters) params.push_back({p.name, p.lower, p.upper});
   return params;
@@ -49,23 +50,26 @@ std::vector<calibrate::Recording> study_recordings(const StudyConfig& study) {
   return read_recordings_csv(study.calibration->recordings, setups);
 }
 
-std::vector<calibrate::Target> calibration_targets(const StudyConfig& study, const fs::path& study_dir,
-                                                   const std::vector<calibrate::Recording>& recordings) {
+std::vector<calibrate::Target> calibration_targets(
+    const StudyConfig& study, const fs::path& study_dir,
+    const std::vector<calibrate::Recording>& recordings) {
   const auto params = design_bounds(study);
   std::vector<std::string> names;
   for (const auto& p : params) names.push_back(p.name);
-  const std::string recordings_file = study.calibration ? study.calibration->recordings.string() : study.file;
+  const std::string recordings_file =
+      study.calibration ? study.calibration->recordings.string() : study.file;
   std::vector<calibrate::Target> all;
   for (const auto& r : recordings) {
     const fs::path file = study_dir / "surrogates" / (r.setup + "." + r.observable + ".json");
     if (!fs::exists(file))
-      throw ConfigError(recordings_file + ":" + std::to_string(r.line) + ": " + r.setup + " " + r.observable +
-                        " is recorded but has no surrogate (" + file.string() +
+      throw ConfigError(recordings_file + ":" + std::to_string(r.line) + ": " + r.setup + " " +
+                        r.observable + " is recorded but has no surrogate (" + file.string() +
                         "); add it to [surrogate] observables and run `demcal fit`");
     const auto fit = load_surrogate(file);
     if (fit.model->input_names() != names)
-      throw ConfigError(file.string() + ": the surrogate's inputs differ from the study's [design] parameters; "
-                                        "run `demcal fit` again");
+      throw ConfigError(file.string() +
+                        ": the surrogate's inputs differ from the study's [design] parameters; "
+                        "run `demcal fit` again");
     calibrate::Target t;
     t.setup = r.setup;
     t.observable = r.observable;
@@ -73,8 +77,9 @@ std::vector<calibrate::Target> calibration_targets(const StudyConfig& study, con
     t.sigma_measured = r.sigma;
     // The value is a mean of r.repeats tests: its test-to-test scatter is the
     // DEM's single-run scatter over sqrt(repeats).
-    t.sigma_dem =
-        std::isfinite(fit.scatter.sd) ? fit.scatter.sd / std::sqrt(static_cast<double>(r.repeats)) : 0.0;
+    t.sigma_dem = std::isfinite(fit.scatter.sd)
+                      ? fit.scatter.sd / std::sqrt(static_cast<double>(r.repeats))
+                      : 0.0;
     t.model = fit.model;
     all.push_back(t);
   }

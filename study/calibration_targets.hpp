@@ -26,9 +26,9 @@ surrogate::FittedSurrogate load_surrogate(const std::filesystem::path& file);
 // One target per recording. ConfigError (naming the recordings file and line)
 // when a recording has no surrogate or the surrogate's inputs are not the
 // study's [design] parameters.
-std::vector<calibrate::Target> calibration_targets(const config::StudyConfig& study,
-                                                   const std::filesystem::path& study_dir,
-                                                   const std::vector<calibrate::Recording>& recordings);
+std::vector<calibrate::Target> calibration_targets(
+    const config::StudyConfig& study, const std::filesystem::path& study_dir,
+    const std::vector<calibrate::Recording>& recordings);
 
 // The solver options a [calibration] table asks for.
 calibrate::CalibrationOptions calibration_options(const config::CalibrationConfig& config);

@@ -14,7 +14,6 @@ namespace demcal::study {
 using namespace demcal::config;
 namespace {
 
-
 std::string design_example() {
   return "e.g.\n  [design]\n  kind = \"full_factorial\"\n  replicates = 1\n"
          "  parameters = { mu_r = { lower = 0.05, upper = 0.6, levels = 5 }, "
@@ -37,7 +36,8 @@ ConfigDocument run_document(const DoePlan& plan, const PlannedRun& run) {
   ConfigDocument doc = plan.source.document();
   apply_design_values(doc, plan.design, plan.generated.points.at(run.point),
                       "design point " + std::to_string(run.point));
-  set_config_value(doc, "study.seed", toml::value<std::int64_t>(static_cast<std::int64_t>(run.seed)),
+  set_config_value(doc, "study.seed",
+                   toml::value<std::int64_t>(static_cast<std::int64_t>(run.seed)),
                    "replicate " + std::to_string(run.replicate) + "'s seed");
   set_config_value(doc, "study.threads", toml::value<std::int64_t>(plan.threads_per_run),
                    "--threads-per-run " + std::to_string(plan.threads_per_run));
@@ -65,7 +65,8 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
     plan.study_seed = base.protocol.seed;
     plan.study_asks_for_vtk = base.output.vtk;
     if (!base.design)
-      throw ConfigError(plan.file + ":1: design: the study has no [design] table; `demcal doe` "
+      throw ConfigError(plan.file +
+                        ":1: design: the study has no [design] table; `demcal doe` "
                         "runs the design it describes, " +
                         design_example());
     plan.design = *base.design;
@@ -82,9 +83,10 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
         if (key == params[i].name || path == plan.design.parameter_paths[i] || tied)
           throw ConfigError(plan.file + ":" + std::to_string(plan.design.parameter_lines[i]) +
                             ": --set " + o + ": " + key + " is set by the design parameter " +
-                            params[i].name + " at every design point, so the --set would be "
-                            "ignored; change design.parameters." + params[i].name +
-                            " (lower, upper) instead");
+                            params[i].name +
+                            " at every design point, so the --set would be "
+                            "ignored; change design.parameters." +
+                            params[i].name + " (lower, upper) instead");
       }
     }
     if (apparatus.empty()) {

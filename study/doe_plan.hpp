@@ -6,8 +6,8 @@
 // problem is a ConfigError before anything runs or touches the store.
 
 #include "config/design_config.hpp"
-#include "study/run_store.hpp"
 #include "config/toml_reader.hpp"
+#include "study/run_store.hpp"
 #include "surrogate/design.hpp"
 
 #include <cstddef>

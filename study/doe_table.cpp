@@ -146,7 +146,8 @@ DoeTable write_doe_table(const DoePlan& plan, const RunStore& store,
                          const std::filesystem::path& study_dir, bool complete_only) {
   std::vector<std::optional<nlohmann::json>> records;
   records.reserve(plan.runs.size());
-  for (const PlannedRun& run : plan.runs) records.push_back(store.load(run.key.hash, run.key.digest));
+  for (const PlannedRun& run : plan.runs)
+    records.push_back(store.load(run.key.hash, run.key.digest));
   DoeTable table = make_doe_table(plan, records);
   if (complete_only && table.missing > 0) return table;
   std::filesystem::create_directories(study_dir);

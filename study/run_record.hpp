@@ -4,9 +4,9 @@
 // time step) and what came out (final state, wall loads, outputs). It is the
 // unit a calibration campaign collects, so it is never silently overwritten.
 
+#include "config/observables.hpp"
 #include "config/simulation_config.hpp"
 #include "config/study_config.hpp"
-#include "config/observables.hpp"
 #include "dem/apparatus/apparatus.hpp"
 #include "dem/output/vtk_writer.hpp"
 
@@ -50,7 +50,8 @@ std::unique_ptr<dem::VtkSeries> open_vtk_series(const std::filesystem::path& dir
 // "apparatus", and the ApparatusResult's "observables", "series" and "details".
 // `result` is null when the run failed; the stable observables
 // (stable_observable_names) are always present, null where not measured.
-nlohmann::json make_apparatus_run_record(const config::StudyConfig& study, const config::StudyApparatus& apparatus,
+nlohmann::json make_apparatus_run_record(const config::StudyConfig& study,
+                                         const config::StudyApparatus& apparatus,
                                          const RunResults& results,
                                          const dem::ApparatusResult* result);
 

@@ -60,8 +60,8 @@ RunKey make_run_key(nlohmann::json key);
 
 // The run key of one run of `apparatus` in `study` (already built with the
 // design values applied), with `seed` and `threads` the run's own.
-RunKey run_key_for(const config::StudyConfig& study, const std::string& apparatus, std::uint64_t seed,
-                   int threads);
+RunKey run_key_for(const config::StudyConfig& study, const std::string& apparatus,
+                   std::uint64_t seed, int threads);
 
 // Writes `content` to `file` through a unique temporary in the same directory,
 // fsync, rename. Throws std::runtime_error naming the file on failure (the
