@@ -4,7 +4,7 @@
 #include "cli/calibrate_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/mpi_session.hpp"
+#include "study/mpi_session.hpp"
 #include "cli/fit_command.hpp"
 #include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"

@@ -1,14 +1,15 @@
 #pragma once
-// MPI for `demcal doe`. When demcal is built with MPI (CMake option
+// MPI for a design's runs (study/design_runner.hpp): the process group
+// `demcal doe` splits a design over. When demcal is built with MPI (CMake option
 // DEMCAL_MPI, on when MPI is found) and started by an MPI launcher (mpirun,
 // mpiexec, srun with PMI: recognised by the variables they set), the session
 // initialises MPI (thread level "funneled": only the main thread calls MPI)
 // and the campaign is split over MPI_COMM_WORLD; otherwise it is a group of
 // one and MPI is never touched, so a plain `demcal doe` needs no MPI runtime.
 
-#include "cli/doe_command.hpp"
+#include "study/design_runner.hpp"
 
-namespace demcal::cli {
+namespace demcal::study {
 
 class MpiSession {
  public:
@@ -30,4 +31,4 @@ class MpiSession {
   int size_ = 1;
 };
 
-}  // namespace demcal::cli
+}  // namespace demcal::study

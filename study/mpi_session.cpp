@@ -1,4 +1,4 @@
-#include "cli/mpi_session.hpp"
+#include "study/mpi_session.hpp"
 
 #include <cstdlib>
 
@@ -6,10 +6,8 @@
 #include <mpi.h>
 #endif
 
-namespace demcal::cli {
+namespace demcal::study {
 
-using namespace demcal::config;
-using namespace demcal::study;
 namespace {
 
 // Variables the common launchers set in every process they start.
@@ -62,4 +60,4 @@ ProcessGroup MpiSession::group() const {
   return g;
 }
 
-}  // namespace demcal::cli
+}  // namespace demcal::study
