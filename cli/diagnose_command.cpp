@@ -10,7 +10,8 @@ namespace {
 // The diagnosis' steps as the commands run them, printing as they always have.
 class CommandSteps final : public study::DiagnosisSteps {
  public:
-  CommandSteps(const DiagnoseOptions& o, std::ostream& out, std::ostream& log) : o_(o), out_(out), log_(log) {}
+  CommandSteps(const DiagnoseOptions& o, std::ostream& out, std::ostream& log)
+      : o_(o), out_(out), log_(log) {}
 
   bool run_study_pipeline() override {
     StudyOptions so;
@@ -23,7 +24,7 @@ class CommandSteps final : public study::DiagnosisSteps {
     return !run_study(so, out_, log_).empty();
   }
 
-  study::DerivedDesign run_design(const std::filesystem::path& study_file) override {
+  study::DerivedDesignOutcome run_design(const std::filesystem::path& study_file) override {
     DoeOptions d;
     d.study = study_file;
     d.output_dir = o_.output_dir;
@@ -55,7 +56,8 @@ class DiagnoseConsole final : public study::ProgressObserver {
 DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& log) {
   CommandSteps steps(o, out, log);
   DiagnoseConsole console(log);
-  const DiagnoseOutcome outcome = study::diagnose_study({o.study, o.overrides, o.output_dir}, steps, console);
+  const DiagnoseOutcome outcome =
+      study::diagnose_study({o.study, o.overrides, o.output_dir}, steps, console);
   if (!outcome.report.empty()) {
     out << outcome.summary << "\n";
     out << "diagnosis report: " << outcome.report.string() << "\n";

@@ -10,6 +10,8 @@
 #include "config/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
 #include "study/calibration_targets.hpp"
+#include "study/derived_study.hpp"
+#include "study/study_directory.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
 #include <algorithm>
@@ -99,13 +101,12 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study,
 }
 
 // The study with the candidate switched on (at its "off" value, so that the
-// parameter's key exists) and a [design] of its own, as TOML text. The design
-// is written by hand: a TOML table is ordered by key, and the design's columns
-// follow the order written.
+// parameter's key exists) and `design` with the base parameters and the
+// candidate's, as the text of a study file (study/derived_study.hpp).
 std::string derived_study(const StudySource& source, const std::string& name,
                           const ResolvedCandidate& c,
                           const std::vector<calibrate::ParameterBounds>& base,
-                          const std::string& design_body) {
+                          DerivedDesignTable design) {
   ConfigDocument doc = source.document();
   toml::table& t = doc.table;
   for (const char* k : {"design", "calibration", "diagnosis", "output"}) t.erase(k);
@@ -120,32 +121,24 @@ std::string derived_study(const StudySource& source, const std::string& name,
     set_config_value(doc, key, toml::value<std::string>(value), "diagnosis " + c.entry->name);
   for (const auto& key : c.entry->keys)
     set_config_value(doc, key, toml::value<double>(c.off), "diagnosis " + c.entry->name);
-  std::ostringstream s;
-  s << "# Written by `demcal diagnose` for the candidate \"" << c.entry->name << "\" ("
-    << c.entry->summary
-    << ").\n# Run it again with `demcal doe` on this file; edits are overwritten by the next "
-       "diagnosis.\n";
-  s << toml::toml_formatter(t) << "\n\n[design]\n" << design_body;
-  s << "parameters = { ";
-  for (const auto& p : base)
-    s << toml_key_text(p.name) << " = { lower = " << shortest_decimal(p.lower)
-      << ", upper = " << shortest_decimal(p.upper) << " }, ";
-  s << toml_key_text(c.entry->keys.front()) << " = { lower = " << shortest_decimal(c.lower)
-    << ", upper = " << shortest_decimal(c.upper);
+  DerivedStudyFile file;
+  file.header = {"Written by `demcal diagnose` for the candidate \"" + c.entry->name + "\" (" +
+                     c.entry->summary + ").",
+                 "Run it again with `demcal doe` on this file; edits are overwritten by the next "
+                 "diagnosis."};
+  file.study = t;
+  for (const auto& p : base) design.parameters.push_back({p.name, p.lower, p.upper, {}});
   // The candidate's other keys follow its parameter (the grains' and the walls' surface energy).
-  if (c.entry->keys.size() > 1) {
-    s << ", also_sets = [";
-    for (std::size_t k = 1; k < c.entry->keys.size(); ++k)
-      s << (k > 1 ? ", " : "") << '"' << c.entry->keys[k] << '"';
-    s << "]";
-  }
-  s << " } }\n";
-  return s.str();
+  design.parameters.push_back(
+      {c.entry->keys.front(), c.lower, c.upper, {c.entry->keys.begin() + 1, c.entry->keys.end()}});
+  file.design = std::move(design);
+  return derived_study_text(file);
 }
 
 // Writes the derived study (only when its text changed: the file's time stays
 // put for a resumed diagnosis) and runs its design.
-DerivedDesign run_derived(const fs::path& file, const std::string& text, DiagnosisSteps& steps) {
+DerivedDesignOutcome run_derived(const fs::path& file, const std::string& text,
+                                 DiagnosisSteps& steps) {
   fs::create_directories(file.parent_path());
   std::string old;
   if (std::ifstream in(file); in) old.assign(std::istreambuf_iterator<char>(in), {});
@@ -376,7 +369,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     outcome.outcome = "incomplete";
     return outcome;
   }
-  const fs::path dir = o.output_dir / study.name;  // as every command names it
+  const fs::path dir = study_directory(o.output_dir, study.name);
   const std::vector<calibrate::Target> targets = calibration_targets(study, dir, recordings);
   const DoeCsv base_table = read_doe_csv(dir / "doe.csv");
 
@@ -427,16 +420,15 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     std::vector<calibrate::CandidateSignature> signatures;
     for (const auto& c : candidates) {
       // 3. The probe: the DEM at the base fit with the candidate on.
-      std::ostringstream design;
-      design << "kind = \"list\"\nreplicates = " << dc.probe_replicates << "\nvalues = [";
+      DerivedDesignTable design;
+      design.kind = "list";
+      design.replicates = dc.probe_replicates;
       for (const auto phi : {std::optional<double>(c.probe), c.probe_below}) {
         if (!phi) continue;
-        design << (phi == c.probe ? "[" : ", [");
-        for (Eigen::Index k = 0; k < theta.size(); ++k)
-          design << shortest_decimal(theta(k)) << ", ";
-        design << shortest_decimal(*phi) << "]";
+        std::vector<double> row(theta.data(), theta.data() + theta.size());
+        row.push_back(*phi);
+        design.values.push_back(std::move(row));
       }
-      design << "]\n";
       const std::string name = study.name + "--" + c.entry->name + "-probe";
       {
         std::ostringstream line;  // the numbers as a stream writes them, as always
@@ -445,9 +437,9 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
              << " instead of " << c.off << ") at the base fit ...";
         observer.on_message(line.str());
       }
-      const DerivedDesign d =
+      const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-probe") / "study.toml",
-                      derived_study(source, name, c, bounds, design.str()), steps);
+                      derived_study(source, name, c, bounds, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -510,15 +502,17 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
                        [&](const auto& c) { return c.entry->name == s.name; }) -
           candidates.begin());
       const ResolvedCandidate& c = candidates[ci];
-      std::ostringstream design;
-      design << "kind = \"latin_hypercube\"\npoints = " << dc.extended_points
-             << "\nreplicates = 1\nseed = 1\n";
+      DerivedDesignTable design;
+      design.kind = "latin_hypercube";
+      design.points = dc.extended_points;
+      design.replicates = 1;
+      design.seed = 1;
       const std::string name = study.name + "--" + c.entry->name + "-extended";
       observer.on_message("extending the design into " + c.entry->parameter + " for " +
                           c.entry->name + " ...");
-      const DerivedDesign d =
+      const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-extended") / "study.toml",
-                      derived_study(source, name, c, bounds, design.str()), steps);
+                      derived_study(source, name, c, bounds, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";

@@ -41,7 +41,7 @@
 namespace demcal::study {
 
 // What a derived design's run left: whether every row has a result, and its table.
-struct DerivedDesign {
+struct DerivedDesignOutcome {
   bool complete = false;
   std::size_t executed = 0;  // DEM runs executed now (not found in the store)
   std::filesystem::path table_csv;
@@ -57,7 +57,7 @@ class DiagnosisSteps {
   virtual bool run_study_pipeline() = 0;
   // The design of the derived study `study_file` (a probe or an extended
   // design), run into the run store with its table written.
-  virtual DerivedDesign run_design(const std::filesystem::path& study_file) = 0;
+  virtual DerivedDesignOutcome run_design(const std::filesystem::path& study_file) = 0;
 };
 
 struct DiagnosisWorkflowOptions {
