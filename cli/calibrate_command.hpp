@@ -1,5 +1,6 @@
 #pragma once
-// `demcal calibrate <study.toml>`: the inverse problem. Reads the study's
+// `demcal calibrate <study.toml>`: the inverse problem (the work is
+// study/study_calibration.hpp; this prints its lines and headline). Reads the study's
 // recordings ([calibration] recordings, config/recordings_csv.hpp) and its fitted
 // surrogates (<output>/<study>/surrogates/<setup>.<observable>.json, `demcal
 // fit`), calibrates on every recording and, for the comparison the paper
