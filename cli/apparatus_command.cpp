@@ -1,7 +1,7 @@
 #include "cli/apparatus_command.hpp"
 
-#include "cli/run_record.hpp"
-#include "cli/study_config.hpp"
+#include "study/run_record.hpp"
+#include "config/study_config.hpp"
 #include "dem/output/vtk_writer.hpp"
 #include "dem/simulation.hpp"
 
@@ -17,6 +17,9 @@
 #include <string_view>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -1,6 +1,7 @@
 #pragma once
-// `demcal calibrate <study.toml>`: the inverse problem. Reads the study's
-// recordings ([calibration] recordings, cli/recordings_csv.hpp) and its fitted
+// `demcal calibrate <study.toml>`: the inverse problem (the work is
+// study/study_calibration.hpp; this prints its lines and headline). Reads the study's
+// recordings ([calibration] recordings, config/recordings_csv.hpp) and its fitted
 // surrogates (<output>/<study>/surrogates/<setup>.<observable>.json, `demcal
 // fit`), calibrates on every recording and, for the comparison the paper
 // makes, on one observable alone (AoR by default), and writes

@@ -6,6 +6,7 @@
 #include <sstream>
 
 namespace demcal::cli {
+
 namespace {
 
 std::size_t display_width(const std::string& s) {

@@ -1,542 +1,67 @@
 #include "cli/diagnose_command.hpp"
 
-#include "calibrate/discrepancy_diagnosis.hpp"
-#include "calibrate/report/figures.hpp"
-#include "calibrate/report/html_report.hpp"
 #include "cli/calibrate_command.hpp"
-#include "cli/calibration_targets.hpp"
-#include "cli/design_config.hpp"
-#include "cli/diagnosis_config.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/doe_csv.hpp"
-#include "cli/fit_command.hpp"
-#include "cli/physics_candidates.hpp"
-#include "cli/study_config.hpp"
-#include "dem/output/atomic_file.hpp"
-#include "surrogate/surrogate_fit.hpp"
-
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <fstream>
-#include <map>
-#include <set>
-#include <sstream>
-#include <tuple>
+#include "study/diagnosis_workflow.hpp"
 
 namespace demcal::cli {
 namespace {
 
-namespace fs = std::filesystem;
-using calibrate::format_number;
+// The diagnosis' steps as the commands run them, printing as they always have.
+class CommandSteps final : public study::DiagnosisSteps {
+ public:
+  CommandSteps(const DiagnoseOptions& o, std::ostream& out, std::ostream& log)
+      : o_(o), out_(out), log_(log) {}
 
-// A candidate as this study uses it: the registry's entry with the study's
-// "off" value, range and probe resolved.
-struct ResolvedCandidate {
-  const PhysicsCandidate* entry = nullptr;
-  double off = 0.0, lower = 0.0, upper = 1.0, probe = 0.0;
-  // A second probe on the other side of "off", for a candidate whose base value
-  // lies inside its range (the wall friction, the size spread): an effect that
-  // saturates on one side (walls that already hold the heap) shows on the other,
-  // and the sensitivity is the secant through both, measured by the DEM alone.
-  std::optional<double> probe_below;
+  bool run_study_pipeline() override {
+    StudyOptions so;
+    so.doe.study = o_.study;
+    so.doe.overrides = o_.overrides;
+    so.doe.output_dir = o_.output_dir;
+    so.doe.run_store = o_.run_store;
+    so.doe.jobs = o_.jobs;
+    so.doe.quiet = o_.quiet;
+    return !run_study(so, out_, log_).empty();
+  }
+
+  study::DerivedDesignOutcome run_design(const std::filesystem::path& study_file) override {
+    DoeOptions d;
+    d.study = study_file;
+    d.output_dir = o_.output_dir;
+    d.run_store = o_.run_store;
+    d.jobs = o_.jobs;
+    d.quiet = o_.quiet;
+    const DoeOutcome done = run_doe(d, out_, log_);
+    return {done.complete(), done.executed, done.table_csv};
+  }
+
+ private:
+  const DiagnoseOptions& o_;
+  std::ostream& out_;
+  std::ostream& log_;
 };
 
-std::optional<double> number_at(const toml::table& t, const std::string& dotted) {
-  const toml::node_view<const toml::node> n = t.at_path(dotted);
-  if (!n) return std::nullopt;
-  return n.value<double>();
-}
+// "diagnose: <line>" on the log, as the command always wrote its progress.
+class DiagnoseConsole final : public study::ProgressObserver {
+ public:
+  explicit DiagnoseConsole(std::ostream& log) : log_(log) {}
+  void on_message(const std::string& text) override { log_ << "diagnose: " << text << "\n"; }
 
-ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study, const DiagnosisConfig& dc) {
-  ResolvedCandidate r;
-  r.entry = &c;
-  r.lower = c.lower;
-  r.upper = c.upper;
-  if (c.off_value) {
-    r.off = *c.off_value;
-  } else {
-    const auto v = number_at(study.resolved, c.keys.front());
-    if (!v)
-      throw ConfigError(study.file + ": [diagnosis] candidate \"" + c.name + "\" needs " + c.keys.front() +
-                        " in the study (its value is the base model's assumption that the candidate frees)");
-    r.off = *v;
-  }
-  // Away from "off" by about a third of the range, toward the side with room.
-  r.probe = c.off_value ? c.probe : (r.off + 0.3 * (r.upper - r.lower) <= r.upper ? r.off + 0.3 * (r.upper - r.lower)
-                                                                                    : r.off - 0.3 * (r.upper - r.lower));
-  bool probe_given = false;
-  if (auto it = dc.ranges.find(c.name); it != dc.ranges.end()) {
-    if (it->second.lower) r.lower = *it->second.lower;
-    if (it->second.upper) r.upper = *it->second.upper;
-    if (it->second.probe) {
-      r.probe = *it->second.probe;
-      probe_given = true;
-    }
-  }
-  if (!c.off_value && !probe_given) {
-    const double step = 0.3 * (r.upper - r.lower);
-    if (r.off - step >= r.lower && r.off + step <= r.upper) {
-      r.probe = r.off + step;
-      r.probe_below = r.off - step;
-    }
-  }
-  const std::string where = study.file + ":" + std::to_string(dc.line) + ": diagnosis." + c.name + ": ";
-  if (!(r.upper > r.lower)) throw ConfigError(where + "upper must be > lower");
-  if (r.off < r.lower || r.off > r.upper)
-    throw ConfigError(where + "the base model's value " + format_number(r.off) + " of " + c.keys.front() +
-                      " lies outside the range [" + format_number(r.lower) + ", " + format_number(r.upper) + "]");
-  if (r.probe < r.lower || r.probe > r.upper || r.probe == r.off)
-    throw ConfigError(where + "probe = " + format_number(r.probe) + " must lie in [" + format_number(r.lower) +
-                      ", " + format_number(r.upper) + "] and differ from the base value " + format_number(r.off));
-  return r;
-}
-
-
-// The study with the candidate switched on (at its "off" value, so that the
-// parameter's key exists) and a [design] of its own, as TOML text. The design
-// is written by hand: a TOML table is ordered by key, and the design's columns
-// follow the order written.
-std::string derived_study(const StudySource& source, const std::string& name, const ResolvedCandidate& c,
-                          const std::vector<calibrate::ParameterBounds>& base, const std::string& design_body) {
-  ConfigDocument doc = source.document();
-  toml::table& t = doc.table;
-  for (const char* k : {"design", "calibration", "diagnosis", "output"}) t.erase(k);
-  {
-    // Keep the seed and threads: replicates share the base design's seeds
-    // (common random numbers), so a probe differs from the base by the physics.
-    toml::table s = t["study"].as_table() ? *t["study"].as_table() : toml::table{};
-    s.insert_or_assign("name", name);
-    t.insert_or_assign("study", std::move(s));
-  }
-  for (const auto& [key, value] : c.entry->switches)
-    set_config_value(doc, key, toml::value<std::string>(value), "diagnosis " + c.entry->name);
-  for (const auto& key : c.entry->keys)
-    set_config_value(doc, key, toml::value<double>(c.off), "diagnosis " + c.entry->name);
-  std::ostringstream s;
-  s << "# Written by `demcal diagnose` for the candidate \"" << c.entry->name << "\" (" << c.entry->summary
-    << ").\n# Run it again with `demcal doe` on this file; edits are overwritten by the next diagnosis.\n";
-  s << toml::toml_formatter(t) << "\n\n[design]\n" << design_body;
-  s << "parameters = { ";
-  for (const auto& p : base)
-    s << toml_key_text(p.name) << " = { lower = " << shortest_decimal(p.lower) << ", upper = " << shortest_decimal(p.upper)
-      << " }, ";
-  s << toml_key_text(c.entry->keys.front()) << " = { lower = " << shortest_decimal(c.lower)
-    << ", upper = " << shortest_decimal(c.upper);
-  // The candidate's other keys follow its parameter (the grains' and the walls' surface energy).
-  if (c.entry->keys.size() > 1) {
-    s << ", also_sets = [";
-    for (std::size_t k = 1; k < c.entry->keys.size(); ++k) s << (k > 1 ? ", " : "") << '"' << c.entry->keys[k] << '"';
-    s << "]";
-  }
-  s << " } }\n";
-  return s.str();
-}
-
-// Writes the derived study (only when its text changed: the file's time stays
-// put for a resumed diagnosis) and runs its design.
-DoeOutcome run_derived(const fs::path& file, const std::string& text, const DiagnoseOptions& o, std::ostream& out,
-                       std::ostream& log) {
-  fs::create_directories(file.parent_path());
-  std::string old;
-  if (std::ifstream in(file); in) old.assign(std::istreambuf_iterator<char>(in), {});
-  if (old != text) dem::write_file_atomically(file, text);
-  DoeOptions d;
-  d.study = file;
-  d.output_dir = o.output_dir;
-  d.run_store = o.run_store;
-  d.jobs = o.jobs;
-  d.quiet = o.quiet;
-  return run_doe(d, out, log);
-}
-
-// Replicate means (and counts) of each observable per design point and setup of a probe table.
-std::map<std::tuple<int, std::string, std::string>, std::pair<double, int>> probe_means(const DoeCsv& t) {
-  std::map<std::tuple<int, std::string, std::string>, std::pair<double, int>> m;
-  for (const auto& r : t.rows) {
-    if (r.status != "ok") continue;
-    for (std::size_t k = 0; k < t.observable_names.size(); ++k) {
-      if (!std::isfinite(r.observables[k])) continue;
-      auto& e = m[{r.point, r.apparatus, t.observable_names[k]}];
-      e.first += r.observables[k];
-      ++e.second;
-    }
-  }
-  for (auto& [key, e] : m) e.first /= e.second;
-  return m;
-}
-
-// The runs of the base design (at phi = off) and of the extended design, as
-// one table with the candidate's parameter as the last input.
-surrogate::ReplicatedData extended_data(const DoeCsv& base, const DoeCsv& ext, const std::string& setup,
-                                        const std::string& observable, const std::vector<calibrate::ParameterBounds>& b,
-                                        const ResolvedCandidate& c) {
-  surrogate::ReplicatedData d;
-  for (const auto& p : b) {
-    d.input_names.push_back(p.name);
-    d.lower.push_back(p.lower);
-    d.upper.push_back(p.upper);
-  }
-  d.input_names.push_back(c.entry->parameter);
-  d.lower.push_back(c.lower);
-  d.upper.push_back(c.upper);
-  d.output_name = observable;
-  const auto p = static_cast<Eigen::Index>(b.size());
-  std::vector<std::vector<double>> x;
-  std::vector<double> y;
-  const auto add = [&](const DoeCsv& t, bool extended, int offset) {
-    const int k = t.observable_index(observable);
-    if (k < 0) return;
-    for (const auto& r : t.rows) {
-      if (r.apparatus != setup || r.status != "ok") continue;
-      std::vector<double> row(r.parameters.begin(), r.parameters.begin() + p);
-      row.push_back(extended ? r.parameters[static_cast<std::size_t>(p)] : c.off);
-      x.push_back(row);
-      y.push_back(r.observables[static_cast<std::size_t>(k)]);
-      d.group.push_back(offset + r.point);
-    }
-  };
-  add(base, false, 0);
-  int offset = 0;
-  for (const auto& r : base.rows) offset = std::max(offset, r.point + 1);
-  add(ext, true, offset);
-  d.x.resize(static_cast<Eigen::Index>(x.size()), p + 1);
-  d.y.resize(static_cast<Eigen::Index>(y.size()));
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    for (Eigen::Index j = 0; j <= p; ++j) d.x(static_cast<Eigen::Index>(i), j) = x[i][static_cast<std::size_t>(j)];
-    d.y(static_cast<Eigen::Index>(i)) = y[i];
-  }
-  return d;
-}
-
-// Numeric keys of the apparatus tables that differ between setups: the setup
-// variables the residuals may follow (orifice diameter, container thickness).
-calibrate::SetupVariables setup_variables(const StudyConfig& study, const std::vector<std::string>& setups) {
-  std::map<std::string, std::map<std::string, double>> all;
-  const toml::table* apps = study.resolved["apparatus"].as_table();
-  if (!apps) return {};
-  for (const auto& s : setups) {
-    const toml::table* a = (*apps)[s].as_table();
-    if (!a) continue;
-    for (const auto& [k, v] : *a)
-      if (v.is_number()) all[s][std::string(k.str())] = *v.value<double>();
-  }
-  std::map<std::string, std::set<double>> values;
-  for (const auto& [s, vars] : all)
-    for (const auto& [k, v] : vars) values[k].insert(v);
-  calibrate::SetupVariables out;
-  for (const auto& [s, vars] : all)
-    for (const auto& [k, v] : vars)
-      if (values[k].size() > 1) out[s][k] = v;
-  return out;
-}
-
-std::string seconds_text(double s) {
-  std::ostringstream o;
-  o.precision(3);
-  o << s << " s";
-  return o.str();
-}
-
-void write_report(const fs::path& dir, const std::string& study_name, const calibrate::DiscrepancyDiagnosis& d,
-                  const std::vector<std::string>& cost_lines, const fs::path& json_file) {
-  using namespace calibrate;
-  fs::create_directories(dir);
-  HtmlReport r("demcal diagnosis: " + study_name);
-  r.heading("Verdict", 2);
-  r.paragraph(d.summary);
-  for (const auto& n : d.notes) r.paragraph(n);
-
-  r.heading("1. Detect: does the base model reproduce the recordings?", 2);
-  r.paragraph(d.detection.statement);
-  r.table({"chi-square", "targets", "parameters", "dof", "chi2/dof", "p-value", "alpha"},
-          {{format_number(d.detection.chi_square), std::to_string(d.detection.targets),
-            std::to_string(d.detection.parameters), std::to_string(d.detection.degrees_of_freedom),
-            format_number(d.detection.chi_square_per_dof), p_value_text(d.detection.p_value),
-            format_number(d.detection.alpha)}});
-
-  std::vector<std::string> labels;
-  std::vector<double> before, after;
-  for (const auto& t : d.fitted_targets) {
-    labels.push_back(t.setup + " " + t.observable);
-    before.push_back(t.residual_before);
-    after.push_back(t.residual_after);
-  }
-  if (!labels.empty()) {
-    std::vector<BarSeries> series = {{"base model", before, {}}};
-    if (d.chosen >= 0) series.push_back({"with " + d.fits[static_cast<std::size_t>(d.chosen)].name, after, {}});
-    const auto fig = bar_figure(dir, "residuals", labels, series, "Standardized residuals, before and after",
-                                "(measured - predicted) / sigma_total");
-    r.figure(fig.svg, "Each recording's standardized residual with the base model and with the chosen module; "
-                      "|r| > 2 is outside the 95 % band.",
-             fig.data_files);
-  }
-
-  if (d.location_available) {
-    r.heading("2. Locate: where do the recordings and the model part?", 2);
-    r.paragraph(d.location.statement);
-    std::vector<std::vector<std::string>> rows;
-    for (const auto& g : d.location.by_observable)
-      rows.push_back({"observable", g.name, format_number(g.chi_square), format_number(100.0 * g.share, 3) + " %",
-                      p_value_text(g.p_value)});
-    for (const auto& g : d.location.by_setup)
-      rows.push_back({"setup", g.name, format_number(g.chi_square), format_number(100.0 * g.share, 3) + " %",
-                      p_value_text(g.p_value)});
-    r.table({"group", "name", "chi-square", "share", "p-value (approx.)"}, rows);
-    std::vector<std::vector<std::string>> trends;
-    for (const auto& t : d.location.trends)
-      trends.push_back({t.variable, t.observable, format_number(t.slope), format_number(t.t),
-                        t.significant ? "yes" : "no"});
-    if (!trends.empty())
-      r.table({"setup variable", "observable", "slope of residuals", "t", "significant"}, trends,
-              "Do the residuals follow a setup variable?");
-    std::vector<std::vector<std::string>> pairs;
-    for (const auto& p : d.location.disagreements)
-      pairs.push_back({p.setup_a, p.setup_b, format_number(p.statistic), p_value_text(p.p_value),
-                       p.significant ? "yes" : "no"});
-    if (!pairs.empty())
-      r.table({"subset", "subset", "statistic", "p-value", "disagree"}, pairs,
-              "Calibrated on each setup alone: do the parameter estimates disagree beyond their uncertainty?");
-  }
-
-  r.heading("3. Explain: which physics could it be?", 2);
-  if (!d.scores_needed) r.paragraph("The base model fits; the candidates were not assessed.");
-  std::vector<std::vector<std::string>> srows;
-  for (const auto& s : d.scores)
-    srows.push_back({std::to_string(s.rank), s.name, to_string(s.status), format_number(s.lagrange_multiplier),
-                     p_value_text(s.p_value), format_number(s.phi_estimate),
-                     format_number(100.0 * s.explained_fraction, 3) + " %"});
-  if (!srows.empty())
-    r.table({"rank", "candidate", "status", "score (LM)", "p-value", "linearized estimate", "chi^2 explained"}, srows,
-            "Score (Lagrange-multiplier) test at the base fit, from the probe runs");
-  std::vector<std::vector<std::string>> frows;
-  for (const auto& f : d.fits)
-    frows.push_back({f.name, f.parameter.name, format_number(f.phi),
-                     format_number(f.phi_lower) + " to " + format_number(f.phi_upper),
-                     format_number(f.chi_square_per_dof), format_number(f.evidence.bic),
-                     format_number(f.evidence.log_evidence), format_number(f.over_base.bayes_factor)});
-  if (!frows.empty())
-    r.table({"candidate", "parameter", "value", "95 % interval", "chi2/dof", "BIC", "log evidence",
-             "Bayes factor over base"},
-            frows, "The leading candidates recalibrated with their parameter free");
-
-  if (!d.held_out_targets.empty()) {
-    r.heading("Held-out recordings, predicted before and after", 2);
-    std::vector<std::vector<std::string>> hrows;
-    for (const auto& t : d.held_out_targets)
-      hrows.push_back({t.setup, t.observable, format_number(t.measured), format_number(t.predicted_before),
-                       format_number(t.residual_before), format_number(t.predicted_after),
-                       format_number(t.residual_after)});
-    r.table({"setup", "observable", "measured", "predicted before", "residual before", "predicted after",
-             "residual after"},
-            hrows);
-  }
-  r.heading("Cost", 2);
-  for (const auto& l : cost_lines) r.paragraph(l);
-  r.paragraph("Everything above, with the grids left out: " + json_file.filename().string());
-  r.write(dir / "index.html");
-}
+ private:
+  std::ostream& log_;
+};
 
 }  // namespace
 
 DiagnoseOutcome diagnose(const DiagnoseOptions& o, std::ostream& out, std::ostream& log) {
-  const auto started = std::chrono::steady_clock::now();
-  StudyConfig study = load_study_config(o.study, o.overrides);
-  if (!study.diagnosis) throw ConfigError(study.file + ": the study has no [diagnosis] table");
-  if (!study.calibration) throw ConfigError(study.file + ": the study has no [calibration] table (recordings)");
-  const DiagnosisConfig& dc = *study.diagnosis;
-  const auto bounds = design_bounds(study);
-  // Everything a candidate needs is checked before any DEM run.
-  std::vector<ResolvedCandidate> candidates;
-  for (const auto& name : dc.candidates) candidates.push_back(resolve(*find_physics_candidate(name), study, dc));
-  const auto recordings = study_recordings(study);
-
-  DiagnoseOutcome outcome;
-  // 1. The study's own pipeline.
-  StudyOptions so;
-  so.doe.study = o.study;
-  so.doe.overrides = o.overrides;
-  so.doe.output_dir = o.output_dir;
-  so.doe.run_store = o.run_store;
-  so.doe.jobs = o.jobs;
-  so.doe.quiet = o.quiet;
-  if (run_study(so, out, log).empty()) {
-    outcome.outcome = "incomplete";
-    return outcome;
+  CommandSteps steps(o, out, log);
+  DiagnoseConsole console(log);
+  const DiagnoseOutcome outcome =
+      study::diagnose_study({o.study, o.overrides, o.output_dir}, steps, console);
+  if (!outcome.report.empty()) {
+    out << outcome.summary << "\n";
+    out << "diagnosis report: " << outcome.report.string() << "\n";
   }
-  const fs::path dir = study_directory(o.output_dir, study.name);
-  const std::vector<calibrate::Target> targets = calibration_targets(study, dir, recordings);
-  const DoeCsv base_table = read_doe_csv(dir / "doe.csv");
-
-  calibrate::DiagnosisOptions opt;
-  opt.alpha = dc.alpha;
-  opt.leading_candidates = dc.leading;
-  opt.required_bayes_factor = dc.bayes_factor_threshold;
-  opt.calibration.grid_points_per_axis = study.calibration->grid_points_per_axis;
-  opt.calibration.multistart_points = study.calibration->multistart_points;
-  for (const auto& t : targets)
-    if (std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) != dc.hold_out.end())
-      opt.held_out.push_back({t.setup, t.observable});
-  std::vector<std::string> setups;
-  for (const auto& a : study.apparatus) setups.push_back(a.name);
-  const calibrate::SetupVariables variables = setup_variables(study, setups);
-
-  // 2. Detect, before spending DEM runs on candidates.
-  std::vector<calibrate::Target> fitted;
-  for (const auto& t : targets)
-    if (std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) == dc.hold_out.end()) fitted.push_back(t);
-  log << "diagnose: calibrating the base model on " << fitted.size() << " recordings ...\n";
-  const auto base = calibrate::calibrate(bounds, fitted, opt.calibration);
-  calibrate::DetectionOptions det;
-  det.alpha = dc.alpha;
-  const auto detection = calibrate::detect_mismatch(base, det);
-  log << "diagnose: " << detection.statement << "\n";
-
-  std::vector<calibrate::CandidateModule> modules;
-  std::vector<std::string> cost;
-  std::size_t executed = 0;
-  if (detection.mismatch()) {
-    const StudySource source = StudySource::read(o.study, o.overrides);
-    // The base fit, snapped to 1/probe_grid of each range so that a diagnosis
-    // of slightly different recordings reuses the probe runs.
-    const calibrate::CalibrationProblem problem(bounds, targets);
-    Eigen::VectorXd theta = base.minima.at(0).theta;
-    for (std::size_t k = 0; k < bounds.size(); ++k) {
-      const double step = (bounds[k].upper - bounds[k].lower) / dc.probe_grid;
-      const auto i = static_cast<Eigen::Index>(k);
-      theta(i) = std::clamp(bounds[k].lower + std::round((theta(i) - bounds[k].lower) / step) * step, bounds[k].lower,
-                            bounds[k].upper);
-    }
-    Eigen::MatrixXd at(1, theta.size());
-    at.row(0) = theta.transpose();
-    std::vector<calibrate::CandidateSignature> signatures;
-    for (const auto& c : candidates) {
-      // 3. The probe: the DEM at the base fit with the candidate on.
-      std::ostringstream design;
-      design << "kind = \"list\"\nreplicates = " << dc.probe_replicates << "\nvalues = [";
-      for (const auto phi : {std::optional<double>(c.probe), c.probe_below}) {
-        if (!phi) continue;
-        design << (phi == c.probe ? "[" : ", [");
-        for (Eigen::Index k = 0; k < theta.size(); ++k) design << shortest_decimal(theta(k)) << ", ";
-        design << shortest_decimal(*phi) << "]";
-      }
-      design << "]\n";
-      const std::string name = study.name + "--" + c.entry->name + "-probe";
-      log << "diagnose: probing " << c.entry->name << " (" << c.entry->keys.front() << " = " << c.probe
-          << (c.probe_below ? " and " + format_number(*c.probe_below) : std::string()) << " instead of " << c.off
-          << ") at the base fit ...\n";
-      const DoeOutcome d = run_derived(dir / "diagnosis" / (c.entry->name + "-probe") / "study.toml",
-                                       derived_study(source, name, c, bounds, design.str()), o, out, log);
-      executed += d.executed;
-      if (!d.complete()) {
-        outcome.outcome = "incomplete";
-        return outcome;
-      }
-      const auto means = probe_means(read_doe_csv(d.table_csv));
-      calibrate::CandidateModule m;
-      m.name = c.entry->name;
-      m.parameter = {c.entry->parameter, c.off, c.lower, c.upper};
-      const double dphi = c.probe - c.off;
-      for (const auto& t : targets) {
-        const auto it = means.find({0, t.setup, t.observable});
-        const auto below = means.find({1, t.setup, t.observable});
-        if (it == means.end()) {
-          m.sensitivity.push_back(0.0);
-          m.sensitivity_se.push_back(0.0);
-          continue;
-        }
-        const double n = it->second.second;
-        // sigma_dem is the single-test scatter over sqrt(repeats); the probe's
-        // mean has the single-run scatter over sqrt(n).
-        const auto rec = std::find_if(recordings.begin(), recordings.end(), [&](const calibrate::Recording& r) {
-          return r.setup == t.setup && r.observable == t.observable;
-        });
-        const double single_sd = t.sigma_dem * std::sqrt(static_cast<double>(rec->repeats));
-        if (c.probe_below && below != means.end()) {
-          // The secant through both probes: DEM against DEM, no surrogate in it.
-          const double span = c.probe - *c.probe_below;
-          m.sensitivity.push_back((it->second.first - below->second.first) / span);
-          m.sensitivity_se.push_back(single_sd * std::sqrt(1.0 / n + 1.0 / below->second.second) / span);
-          continue;
-        }
-        const auto pred = t.model->predict(at);
-        m.sensitivity.push_back((it->second.first - pred.mean(0)) / dphi);
-        m.sensitivity_se.push_back(std::sqrt(single_sd * single_sd / n + pred.variance(0)) / std::abs(dphi));
-      }
-      signatures.push_back({m.name, m.parameter, m.sensitivity, m.sensitivity_se});
-      modules.push_back(std::move(m));
-    }
-    // 4. Extended designs for the leading candidates by the score test.
-    calibrate::ScoreOptions so_opts;
-    so_opts.alpha = dc.alpha;
-    // At the base fit itself: the probes measured the sensitivities at the
-    // snapped point, which is close enough for a smooth response.
-    const auto ranked = calibrate::rank_candidates(problem, base.minima.at(0).theta, signatures, so_opts);
-    int extended = 0;
-    for (const auto& s : ranked) {
-      // In rank order (assessed ones first): a candidate the score test could not settle
-      // (confounded with the base parameters, or seen by the probes but mimicked within
-      // their noise) still gets an extended design when the budget allows -- the evidence
-      // decides; only one the probes did not see at all is left out.
-      if (extended >= dc.leading || s.signature_within_noise) continue;
-      ++extended;
-      const auto ci = static_cast<std::size_t>(
-          std::find_if(candidates.begin(), candidates.end(), [&](const auto& c) { return c.entry->name == s.name; }) -
-          candidates.begin());
-      const ResolvedCandidate& c = candidates[ci];
-      std::ostringstream design;
-      design << "kind = \"latin_hypercube\"\npoints = " << dc.extended_points << "\nreplicates = 1\nseed = 1\n";
-      const std::string name = study.name + "--" + c.entry->name + "-extended";
-      log << "diagnose: extending the design into " << c.entry->parameter << " for " << c.entry->name << " ...\n";
-      const DoeOutcome d = run_derived(dir / "diagnosis" / (c.entry->name + "-extended") / "study.toml",
-                                       derived_study(source, name, c, bounds, design.str()), o, out, log);
-      executed += d.executed;
-      if (!d.complete()) {
-        outcome.outcome = "incomplete";
-        return outcome;
-      }
-      const DoeCsv ext = read_doe_csv(d.table_csv);
-      const surrogate::SurrogateSpec spec = study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
-      for (const auto& t : targets) {
-        auto data = extended_data(base_table, ext, t.setup, t.observable, bounds, c);
-        surrogate::FittedSurrogate f;
-        try {
-          f = surrogate::fit_surrogate(data, spec);
-        } catch (const std::invalid_argument& e) {
-          throw ConfigError(d.table_csv.string() + ": " + t.setup + " " + t.observable + ": " + e.what());
-        }
-        const fs::path file = dir / "diagnosis" / (c.entry->name + "-extended") / "surrogates" /
-                              (t.setup + "." + t.observable + ".json");
-        fs::create_directories(file.parent_path());
-        dem::write_file_atomically(file, f.to_json().dump(1) + "\n");
-        calibrate::Target e = t;
-        e.model = f.model;
-        modules[ci].extended_targets.push_back(e);
-      }
-    }
-  }
-
-  // 5. The whole comparison.
-  const auto result = calibrate::diagnose_discrepancy(bounds, targets, modules, variables, opt);
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  cost.push_back("DEM runs executed by this diagnosis: " + std::to_string(executed) +
-                 " (runs already in the stores were reused); wall time " + seconds_text(elapsed) + ".");
-  const fs::path report_dir = dir / "reports" / "diagnosis";
-  fs::create_directories(report_dir);
-  nlohmann::json j = result.to_json();
-  j["study"] = study.name;
-  j["dem_runs_executed"] = executed;
-  j["wall_time_s"] = elapsed;
-  outcome.json = report_dir / "diagnosis.json";
-  dem::write_file_atomically(outcome.json, j.dump(1) + "\n");
-  write_report(report_dir, study.name, result, cost, outcome.json);
-  outcome.report = report_dir / "index.html";
-  outcome.outcome = calibrate::to_string(result.outcome);
-  outcome.summary = result.summary;
-  outcome.dem_runs_executed = executed;
-  out << result.summary << "\n";
-  out << "diagnosis report: " << outcome.report.string() << "\n";
   return outcome;
 }
 

@@ -1,36 +1,11 @@
 #pragma once
 // `demcal diagnose <study.toml>`: when no parameter set of the base model
 // reproduces the recordings, find where they part, name the physics the model
-// left out, add it and show the fit improve (DESIGN.md "Missing physics";
-// the statistics are calibrate/discrepancy_diagnosis.hpp, the candidates
-// cli/physics_candidates.hpp, the settings the study's [diagnosis] table,
-// cli/diagnosis_config.hpp).
-//
-// What runs, in order, each step resumable through the run store:
-//   1. the study's own pipeline (`demcal study`): design, runs, surrogates;
-//   2. the base calibration on every recording not held out, and the
-//      chi-square test. When the base model fits, it stops here and says so:
-//      no DEM run is spent on candidates;
-//   3. per candidate, a probe: the DEM at the base fit with the candidate
-//      switched on at its probe value (probe_replicates seeds per setup), so
-//      that the sensitivity of every recording to it is measured, not assumed.
-//      A candidate whose base value lies inside its range (wall friction, size
-//      spread) is probed on both sides of it, and its sensitivity is the secant
-//      between the two: an effect that saturates on one side shows on the other;
-//   4. the leading candidates by the score test get a design extended into
-//      their parameter (Latin hypercube in (parameters, candidate)), which,
-//      with the base design at the candidate's "off" value, fits surrogates
-//      with the candidate's parameter as one more input;
-//   5. the comparison by evidence, the chosen module, before/after.
-// Each probe and extended design is a study of its own, written to
-//   <output>/<study>/diagnosis/<candidate>-probe/study.toml
-//   <output>/<study>/diagnosis/<candidate>-extended/study.toml
-// (the study with the candidate's switches and a [design] of its own), run
-// with `demcal doe` into <output>/<study>--<candidate>-{probe,extended}/, so
-// every DEM run of the diagnosis can be inspected, rerun or shared.
-//
-// Writes <output>/<study>/reports/diagnosis/index.html (the verdict in words
-// first) and diagnosis.json beside it.
+// left out, add it and show the fit improve. The workflow is
+// study/diagnosis_workflow.hpp (what runs, in order, and what it writes);
+// this command runs its steps (`demcal study`, `demcal doe`) and prints.
+
+#include "study/diagnosis_workflow.hpp"
 
 #include <filesystem>
 #include <ostream>
@@ -48,13 +23,7 @@ struct DiagnoseOptions {
   bool quiet = false;
 };
 
-struct DiagnoseOutcome {
-  std::filesystem::path report;
-  std::filesystem::path json;
-  std::string outcome;  // calibrate::to_string(DiagnosisOutcome), "incomplete" when runs are left
-  std::string summary;
-  std::size_t dem_runs_executed = 0;  // by the diagnosis itself (probes, extended designs)
-};
+using DiagnoseOutcome = study::DiagnosisOutcome;
 
 DiagnoseOutcome diagnose(const DiagnoseOptions& options, std::ostream& out, std::ostream& log);
 

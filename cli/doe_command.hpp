@@ -1,7 +1,7 @@
 #pragma once
 // `demcal doe`: runs every design point x replicate x apparatus of a study
-// (its [design] table, cli/design_config.hpp) into the run store
-// (cli/run_store.hpp) and writes the campaign's table (cli/doe_table.hpp).
+// (its [design] table, config/design_config.hpp) into the run store
+// (study/run_store.hpp) and writes the campaign's table (study/doe_table.hpp).
 //
 //   <output>/<study name>/runs/<hash>.json   one run record per distinct run
 //                                            (or --run-store DIR/<hash>.json)
@@ -10,31 +10,20 @@
 // out/<study>/<apparatus>); the study's [output] directory names one run's
 // directory and is not used here, nor VTK output.
 //
-// Execution. Runs execute inside this process on `jobs` worker threads, each
-// running one simulation at a time with `threads_per_run` OpenMP threads (the
-// engine keeps no global mutable state; a worker sets its own OpenMP default).
-// A run record is the one `demcal simulate` writes for the apparatus plus a
-// "design" block (point, replicate, seed, parameters, hash, digest, status);
-// it is stored atomically the moment the run ends. A run that fails
-// (dem::InstabilityError, ...) is stored with status "failed" and its message
-// and is not run again unless retry_failed.
+// Execution, shards and MPI: study/design_runner.hpp (jobs worker threads,
+// shard i/N, MPI ranks; a run's result depends only on its key). A run record
+// is the one `demcal simulate` writes for the apparatus plus a "design" block
+// (point, replicate, seed, parameters, hash, digest, status).
 //
 // Resuming: runs already in the store are reused, not rerun; an interrupted
 // run left nothing but possibly a temporary file, which is never read and is
-// cleaned up (run_store.hpp). So a campaign killed at any moment and started
-// again ends with the same store as one never interrupted.
-//
-// Splitting: the distinct runs are numbered in plan order (cli/doe_plan.hpp);
-// shard i/N takes those with number % N == i, and within a shard, MPI rank r of
-// size s takes every s-th (position % s == r). Shards write no table: copy
-// their run directories together (or share one) and use collect. Under MPI
-// every rank runs its share on its own threads, all ranks then agree (a
-// collective that is also a barrier) and rank 0 writes the table.
-//
-// Determinism: a run's result depends only on its key (inputs, seed, threads
-// per run), never on jobs, shards or ranks.
+// cleaned up (study/run_store.hpp). So a campaign killed at any moment and
+// started again ends with the same store as one never interrupted. Shards
+// write no table: copy their run directories together (or share one) and use
+// collect. Under MPI rank 0 writes the table once every rank has stored its runs.
 
-#include "cli/doe_plan.hpp"
+#include "study/design_runner.hpp"
+#include "study/doe_plan.hpp"
 
 #include <atomic>
 #include <cstddef>
@@ -47,21 +36,8 @@
 
 namespace demcal::cli {
 
-// The processes a campaign is split over: MPI's world, or just this process.
-struct ProcessGroup {
-  int rank = 0;
-  int size = 1;
-  // Collective: blocks until every process calls it, then says whether every
-  // one passed true. Empty for a single process.
-  std::function<bool(bool)> all_true;
-
-  bool agree(bool ok) const { return all_true ? all_true(ok) : ok; }
-};
-
-struct Shard {
-  std::size_t index = 0;
-  std::size_t count = 1;
-};
+using study::ProcessGroup;
+using study::Shard;
 
 // "i/N" with 0 <= i < N; ConfigError otherwise.
 Shard parse_shard(const std::string& text);

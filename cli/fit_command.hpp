@@ -1,6 +1,6 @@
 #pragma once
-// `demcal fit <study.toml>`: fits the study's surrogates ([surrogate] table,
-// cli/surrogate_config.hpp) to its design table and saves each as JSON:
+// `demcal fit <study.toml>`: fits (study/surrogate_fitting.hpp) the study's surrogates ([surrogate]
+// table, config/surrogate_config.hpp) to its design table and saves each as JSON:
 //   <output>/<study>/surrogates/<apparatus>.<observable>.json
 // (model with every coefficient and hyperparameter, the spec, the DEM's
 // replicate scatter, leave-one-out validation). The table is
@@ -9,6 +9,9 @@
 //
 // `demcal inspect <study.toml>` writes the surrogate inspection report from the
 // saved surrogates: <output>/<study>/reports/inspection/index.html.
+
+#include "study/study_directory.hpp"
+#include "study/surrogate_fitting.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -36,7 +39,6 @@ FitOutcome fit(const FitOptions& options, std::ostream& out, std::ostream& log);
 // Returns the report's index.html.
 std::filesystem::path inspect(const FitOptions& options, std::ostream& out, std::ostream& log);
 
-// <output>/<study name>: where doe, fit, inspect and calibrate keep their files.
-std::filesystem::path study_directory(const std::filesystem::path& output_dir, const std::string& study_name);
+using study::study_directory;
 
 }  // namespace demcal::cli

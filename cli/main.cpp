@@ -4,11 +4,11 @@
 #include "cli/calibrate_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/mpi_session.hpp"
+#include "study/mpi_session.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
-#include "cli/simulation_config.hpp"
+#include "config/simulation_config.hpp"
 
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -27,7 +27,7 @@ template <typename Body>
 int guarded(const std::string& who, Body&& body) {
   try {
     return body();
-  } catch (const demcal::cli::ConfigError& e) {
+  } catch (const demcal::config::ConfigError& e) {
     std::cerr << "demcal: " << who << "error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
@@ -40,6 +40,9 @@ int guarded(const std::string& who, Body&& body) {
 
 int main(int argc, char** argv) {
   using namespace demcal::cli;
+  using namespace demcal::config;
+  using namespace demcal::study;
+using namespace demcal::study;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
   app.set_version_flag("--version", "demcal " + engine_version());
   app.require_subcommand(1);

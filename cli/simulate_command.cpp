@@ -1,7 +1,7 @@
 #include "cli/simulate_command.hpp"
 
 #include "cli/apparatus_command.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include "dem/output/vtk_writer.hpp"
 #include "dem/simulation.hpp"
@@ -16,6 +16,9 @@
 #include <memory>
 
 namespace demcal::cli {
+
+using namespace demcal::config;
+using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -1,10 +1,10 @@
 #pragma once
 // `demcal simulate`: config -> assembled simulation -> stepped to the end time
 // or until at rest -> VTK snapshots and run.json. A study config (one with
-// [apparatus.*] tables, cli/study_config.hpp) runs one apparatus instead
+// [apparatus.*] tables, config/study_config.hpp) runs one apparatus instead
 // (cli/apparatus_command.hpp).
 
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -37,7 +37,7 @@ struct SimulateOptions {
 
 struct SimulateOutcome {
   std::filesystem::path run_record;
-  RunResults results;
+  study::RunResults results;
   // Study configs: ApparatusResult::observables (the stable names always present).
   nlohmann::json observables = nlohmann::json::object();
 };

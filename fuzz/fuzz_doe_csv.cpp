@@ -1,7 +1,7 @@
 // Fuzzes the design-table reader (doe.csv). The only outcome allowed for bad
 // input is a ConfigError.
-#include "cli/doe_csv.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/doe_csv.hpp"
+#include "config/toml_reader.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -11,8 +11,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   try {
-    (void)demcal::cli::read_doe_csv(in, "doe.csv");
-  } catch (const demcal::cli::ConfigError&) {
+    (void)demcal::config::read_doe_csv(in, "doe.csv");
+  } catch (const demcal::config::ConfigError&) {
   }
   return 0;
 }

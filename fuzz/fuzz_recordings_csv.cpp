@@ -1,7 +1,7 @@
 // Fuzzes the recordings CSV reader (and the series CSV reader on the same
 // bytes). The only outcome allowed for bad input is a ConfigError.
-#include "cli/recordings_csv.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/recordings_csv.hpp"
+#include "config/toml_reader.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -12,13 +12,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     std::istringstream in(text);
-    (void)demcal::cli::read_recordings_csv(in, "recordings.csv", {"sandglass", "conical_pile", "container"});
-  } catch (const demcal::cli::ConfigError&) {
+    (void)demcal::config::read_recordings_csv(in, "recordings.csv", {"sandglass", "conical_pile", "container"});
+  } catch (const demcal::config::ConfigError&) {
   }
   try {
     std::istringstream in(text);
-    (void)demcal::cli::read_series_csv(in, "series.csv", "sandglass");
-  } catch (const demcal::cli::ConfigError&) {
+    (void)demcal::config::read_series_csv(in, "series.csv", "sandglass");
+  } catch (const demcal::config::ConfigError&) {
   }
   return 0;
 }

@@ -54,7 +54,7 @@ INSTRUMENT = [
 
 
 def series_observables(rec):
-    """The m(t) segments of a run record as demcal reads them (cli/run_record.hpp,
+    """The m(t) segments of a run record as demcal reads them (study/run_record.hpp,
     series_observables): for runs recorded before demcal wrote them itself."""
     out = {}
     obs, series = rec.get("observables", {}), rec.get("series", {})

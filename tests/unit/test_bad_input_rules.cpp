@@ -5,13 +5,14 @@
 // a tiny restitution, and that every checked-in study still reads (the rules
 // change no valid input).
 #include "cli/doe_command.hpp"
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/run_record.hpp"
-#include "cli/run_sanity.hpp"
-#include "cli/run_store.hpp"
-#include "cli/study_config.hpp"
-#include "cli/toml_reader.hpp"
+#include "study/run_record.hpp"
+#include "config/run_sanity.hpp"
+#include "study/run_store.hpp"
+#include "study/stage_cache.hpp"
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
 #include "dem/contact/restitution_damping.hpp"
 
 #include <gtest/gtest.h>
@@ -27,6 +28,9 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -18,6 +18,9 @@
 namespace demcal::cli {
 namespace {
 
+using namespace demcal::config;
+using namespace demcal::study;
+
 namespace fs = std::filesystem;
 
 TEST(CalibrateCommand, TheReferencePointsChiSquareAndRegionMembershipAreReported) {

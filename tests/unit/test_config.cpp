@@ -1,7 +1,7 @@
 // The TOML config reader: a valid config builds the simulation it describes,
 // and every kind of mistake is a ConfigError that points at file, line and key.
 
-#include "cli/simulation_config.hpp"
+#include "config/simulation_config.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,6 +14,8 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
 
 // Small enough to step in a unit test: 20 grains filled at t = 0 above a floor.
 const char* const kMinimal = R"(# minimal config

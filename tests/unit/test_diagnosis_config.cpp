@@ -2,10 +2,10 @@
 // input is refused with the file, line and key before anything runs, and every
 // candidate's switches and keys are ones a study accepts.
 
-#include "cli/design_config.hpp"
-#include "cli/physics_candidates.hpp"
-#include "cli/study_config.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/design_config.hpp"
+#include "config/physics_candidates.hpp"
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +16,8 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
 
 std::string tiny_study() {
   std::ifstream in(std::filesystem::path(DEMCAL_SOURCE_DIR) / "tests/data/doe-tiny/study.toml");

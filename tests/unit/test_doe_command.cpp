@@ -5,11 +5,11 @@
 // killed with SIGKILL and restarted, or is split into shards and merged; that
 // failed runs are recorded and not retried; and that bad input is refused with
 // file:line before the store is touched.
-#include "cli/design_config.hpp"
+#include "config/design_config.hpp"
 #include "cli/doe_command.hpp"
-#include "cli/doe_plan.hpp"
-#include "cli/run_store.hpp"
-#include "cli/study_config.hpp"
+#include "study/doe_plan.hpp"
+#include "study/run_store.hpp"
+#include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -34,6 +34,9 @@ extern char** environ;
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

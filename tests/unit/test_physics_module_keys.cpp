@@ -4,10 +4,10 @@
 // parameters address them, and a config without them resolves as before (so
 // the run store's hashes of existing studies do not change).
 
-#include "cli/design_config.hpp"
-#include "cli/run_store.hpp"
-#include "cli/simulation_config.hpp"
-#include "cli/study_config.hpp"
+#include "config/design_config.hpp"
+#include "study/run_store.hpp"
+#include "config/simulation_config.hpp"
+#include "config/study_config.hpp"
 #include "dem/size_distribution.hpp"
 
 #include <gtest/gtest.h>
@@ -21,6 +21,9 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 const char* const kStudy = R"([study]
 name = "modules"

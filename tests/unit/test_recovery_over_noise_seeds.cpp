@@ -26,6 +26,9 @@
 namespace demcal::cli {
 namespace {
 
+using namespace demcal::config;
+using namespace demcal::study;
+
 namespace fs = std::filesystem;
 
 struct TruthRun {

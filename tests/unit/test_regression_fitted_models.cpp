@@ -14,7 +14,7 @@
 // and say why in the commit.
 
 #include "calibrate/calibration.hpp"
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
 #include <gtest/gtest.h>
@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 
 const fs::path kSource = DEMCAL_SOURCE_DIR;
 
-surrogate::ReplicatedData data(const cli::DoeCsv& t, const std::string& observable) {
+surrogate::ReplicatedData data(const config::DoeCsv& t, const std::string& observable) {
   surrogate::ReplicatedData d;
   d.input_names = t.parameter_names;
   d.lower = {0.05, 0.2};  // studies/sandglass-calibration/study.toml [design]
@@ -60,7 +60,7 @@ surrogate::SurrogateSpec study_spec() {
 }
 
 nlohmann::json current() {
-  const auto t = cli::read_doe_csv(kSource / "studies/sandglass-calibration/doe.csv");
+  const auto t = config::read_doe_csv(kSource / "studies/sandglass-calibration/doe.csv");
   nlohmann::json j;
   std::vector<calibrate::Target> targets;
   for (const std::string name : {"angle_of_repose_deg", "discharge_time_s"}) {

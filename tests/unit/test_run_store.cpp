@@ -1,8 +1,8 @@
 // The run store: SHA-256 and the canonical key text, run keys that depend on
 // what determines a run and on nothing else (not key order, not 1 vs 1.0, not
 // the study's name or output), and files that are whole or absent.
-#include "cli/run_store.hpp"
-#include "cli/study_config.hpp"
+#include "study/run_store.hpp"
+#include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -15,6 +15,9 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -1,12 +1,15 @@
-// The m(t) segments read off a run record's discharge series (cli/run_record.hpp):
+// The m(t) segments read off a run record's discharge series (study/run_record.hpp):
 // interpolated between samples, null without a finished discharge.
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 TEST(SeriesObservables, TheDischargeSeriesIsReadAtAQuarterHalfAndThreeQuarters) {
   // m(t) rising linearly to 2 kg at t = 1 s after a 0.1 s delay, sampled every 0.1 s.

@@ -2,7 +2,7 @@
 // files (all but the wall-clock fields of run.json); an existing run is never
 // overwritten without --overwrite.
 #include "cli/simulate_command.hpp"
-#include "cli/simulation_config.hpp"
+#include "config/simulation_config.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +13,9 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 namespace fs = std::filesystem;
 

@@ -3,9 +3,9 @@
 // and every kind of mistake, including a geometry that cannot hold its fill,
 // is a ConfigError naming file, line, table and key before anything runs.
 
-#include "cli/run_record.hpp"
+#include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
-#include "cli/study_config.hpp"
+#include "config/study_config.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -21,6 +21,9 @@
 
 namespace demcal::cli {
 namespace {
+
+using namespace demcal::config;
+using namespace demcal::study;
 
 // Small, coarse-grained and sliced so that building all three is instant.
 const char* const kStudy = R"(# a study with all three apparatus

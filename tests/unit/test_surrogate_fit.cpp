@@ -2,11 +2,11 @@
 // [surrogate] table, reading doe.csv and recordings, and `demcal fit` /
 // `demcal inspect` end to end on a synthetic design table.
 
-#include "cli/doe_csv.hpp"
+#include "config/doe_csv.hpp"
 #include "cli/fit_command.hpp"
-#include "cli/recordings_csv.hpp"
-#include "cli/study_config.hpp"
-#include "cli/toml_reader.hpp"
+#include "config/recordings_csv.hpp"
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
 #include "surrogate/surrogate_fit.hpp"
 #include "surrogate/surrogate_io.hpp"
 
@@ -211,7 +211,7 @@ TEST(FitCommand, AListedObservableIsFittedWhereMeasuredAndRefusedWhereNoRunMeasu
   try {
     cli::fit(o, out, log);
     FAIL() << "a listed observable that no run measured was accepted";
-  } catch (const cli::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("observables lists discharge_time_s, but no run in"), std::string::npos)
         << e.what();
   }
@@ -233,17 +233,17 @@ TEST(FitCommand, SurrogateTableIsStrict) {
   TempDir dir("strict");
   write(dir.path / "a.toml", study_text("[surrogate]\nmodel = \"polynomial\"\nkernel = \"matern52\"\n"));
   try {
-    cli::load_study_config(dir.path / "a.toml", {});
+    config::load_study_config(dir.path / "a.toml", {});
     FAIL();
-  } catch (const cli::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("surrogate.kernel: applies only to model = \"gaussian_process\""),
               std::string::npos)
         << e.what();
   }
   write(dir.path / "b.toml", study_text("[surrogate]\nobservables = [\"angle_of_repose\"]\n"));
-  EXPECT_THROW(cli::load_study_config(dir.path / "b.toml", {}), cli::ConfigError);
+  EXPECT_THROW(config::load_study_config(dir.path / "b.toml", {}), config::ConfigError);
   write(dir.path / "c.toml", study_text("[surrogate]\ndegree = 5\nmodel = \"polynomial\"\n"));
-  EXPECT_THROW(cli::load_study_config(dir.path / "c.toml", {}), cli::ConfigError);
+  EXPECT_THROW(config::load_study_config(dir.path / "c.toml", {}), config::ConfigError);
 }
 
 TEST(DoeCsv, MalformedTablesAreRefusedWithFileAndLine) {
@@ -252,9 +252,9 @@ TEST(DoeCsv, MalformedTablesAreRefusedWithFileAndLine) {
         "point,replicate,seed,apparatus,mu_r,angle_of_repose_deg,discharge_time_s,mass_flow_rate_kg_s,"
         "bulk_density_kg_m3,status,hash\n0,0,1,sandglass,0.1,30.5,,,,ok,ab\n1,0,1,sandglass,0.2,abc,,,,ok,cd\n");
   try {
-    cli::read_doe_csv(dir.path / "t.csv");
+    config::read_doe_csv(dir.path / "t.csv");
     FAIL();
-  } catch (const cli::ConfigError& e) {
+  } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("t.csv:3: column angle_of_repose_deg"), std::string::npos) << e.what();
   }
 }
@@ -265,15 +265,15 @@ TEST(RecordingsCsv, ReadsValidRowsAndRefusesBadOnesWithTheReason) {
   write(dir.path / "ok.csv",
         "setup,observable,value,sigma,unit\nsandglass,angle_of_repose_deg,41.57,1.0,deg\n"
         "sandglass,discharge_time_s,6.56,0.15,s\n");
-  const auto r = cli::read_recordings_csv(dir.path / "ok.csv", setups);
+  const auto r = config::read_recordings_csv(dir.path / "ok.csv", setups);
   ASSERT_EQ(r.size(), 2u);
   EXPECT_DOUBLE_EQ(r[1].value, 6.56);
   const auto refused = [&](const std::string& row, const std::string& why) {
     write(dir.path / "bad.csv", "setup,observable,value,sigma,unit\n" + row + "\n");
     try {
-      cli::read_recordings_csv(dir.path / "bad.csv", setups);
+      config::read_recordings_csv(dir.path / "bad.csv", setups);
       ADD_FAILURE() << row;
-    } catch (const cli::ConfigError& e) {
+    } catch (const config::ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find("bad.csv:2: " + why), std::string::npos) << e.what();
     }
   };
@@ -287,7 +287,7 @@ TEST(RecordingsCsv, ReadsValidRowsAndRefusesBadOnesWithTheReason) {
   // The optional repeats column: how many tests a value is the mean of.
   write(dir.path / "rep.csv",
         "setup,observable,value,sigma,unit,repeats\nsandglass,angle_of_repose_deg,41.57,0.5,deg,5\n");
-  const auto rep = cli::read_recordings_csv(dir.path / "rep.csv", setups);
+  const auto rep = config::read_recordings_csv(dir.path / "rep.csv", setups);
   ASSERT_EQ(rep.size(), 1u);
   EXPECT_EQ(rep[0].repeats, 5);
   EXPECT_EQ(r[0].repeats, 1);
@@ -296,9 +296,9 @@ TEST(RecordingsCsv, ReadsValidRowsAndRefusesBadOnesWithTheReason) {
           std::string("setup,observable,value,sigma,unit,repeats\nsandglass,angle_of_repose_deg,41.57,0.5,deg,") + bad +
               "\n");
     try {
-      cli::read_recordings_csv(dir.path / "rep.csv", setups);
+      config::read_recordings_csv(dir.path / "rep.csv", setups);
       ADD_FAILURE() << bad;
-    } catch (const cli::ConfigError& e) {
+    } catch (const config::ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find("rep.csv:2: repeats"), std::string::npos) << e.what();
     }
   }

@@ -1,0 +1,60 @@
+#include "config/calibration_config.hpp"
+
+#include "config/observables.hpp"
+
+#include <limits>
+
+namespace demcal::config {
+
+std::optional<CalibrationConfig> read_calibration(reader::Table& root,
+                                                  const std::string& study_file,
+                                                  const std::optional<DesignConfig>& design) {
+  if (!root.has("calibration")) return std::nullopt;
+  reader::Table t = root.table("calibration");
+  CalibrationConfig c;
+  const std::string rec = t.string("recordings");
+  if (rec.empty())
+    t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
+  const std::filesystem::path p(rec);
+  c.recordings = p.is_absolute() ? p : std::filesystem::path(study_file).parent_path() / p;
+  if (t.has("alone")) {
+    std::vector<std::string> options = observable_names();
+    options.push_back("");
+    c.alone = t.choice("alone", options);
+  }
+  c.confidence = t.number_or("confidence", 0.95, reader::between(0, true, 1, true));
+  c.grid_points_per_axis = static_cast<int>(t.integer_or("grid_points_per_axis", 121, 11, 1001));
+  c.multistart_points = static_cast<int>(t.integer_or("multistart_points", 16, 1, 1000));
+  c.mcmc_samples = static_cast<int>(t.integer_or("mcmc_samples", 20000, 0, 10000000));
+  c.mcmc_burn_in = static_cast<int>(t.integer_or("mcmc_burn_in", 4000, 0, 10000000));
+  c.mcmc_chains = static_cast<int>(t.integer_or("mcmc_chains", 2, 1, 16));
+  c.seed = static_cast<std::uint64_t>(
+      t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  const std::string verify = t.string_or("verify", "");
+  if (!verify.empty()) {
+    const std::filesystem::path v(verify);
+    c.verify = v.is_absolute() ? v : std::filesystem::path(study_file).parent_path() / v;
+    if (!std::filesystem::exists(c.verify))
+      t.fail("verify", "no such study config: " + c.verify.string());
+  }
+  c.reference_label = t.string_or("reference_label", "");
+  c.reference_point = t.numbers_or_empty("reference_point");
+  if (c.reference_label.empty() != c.reference_point.empty())
+    t.fail(c.reference_label.empty() ? "reference_point" : "reference_label",
+           "reference_label and reference_point go together: give both or neither");
+  if (design && !c.reference_point.empty()) {
+    const auto& params = design->spec.parameters;
+    // (A diagnosis' extended design adds a parameter after those the point gives.)
+    for (std::size_t k = 0; k < params.size() && k < c.reference_point.size(); ++k)
+      if (c.reference_point[k] < params[k].lower || c.reference_point[k] > params[k].upper)
+        t.fail("reference_point",
+               "entry " + std::to_string(k) + " (" + params[k].name + ") is " +
+                   reader::format_number(c.reference_point[k]) + ", outside the design box [" +
+                   reader::format_number(params[k].lower) + ", " +
+                   reader::format_number(params[k].upper) + "]; the surrogates say nothing there");
+  }
+  t.finish();
+  return c;
+}
+
+}  // namespace demcal::config

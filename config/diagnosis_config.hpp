@@ -1,0 +1,55 @@
+#pragma once
+// The [diagnosis] table of a study config: how `demcal diagnose` looks for the
+// physics the base model left out (calibrate/discrepancy_diagnosis.hpp).
+// Every key is optional:
+//
+//   [diagnosis]
+//   candidates = ["cohesion", "wall_friction", "air_drag", "size_spread"]
+//                                     # default: every one config/physics_candidates.hpp knows
+//   alpha = 0.01                      # significance of the goodness-of-fit test, (0, 0.5)
+//   hold_out = ["conical_pile"]       # setups whose recordings are predicted, never fitted
+//   probe_replicates = 2              # DEM runs per setup at the base fit with the candidate
+//                                     #   switched on (its sensitivity), 1..100
+//   leading = 2                       # candidates that get an extended design, 1..10
+//   extended_points = 16              # Latin hypercube points in (parameters, candidate), 4..10000
+//   bayes_factor_threshold = 10       # the best candidate must beat the base model by this
+//   probe_grid = 200                  # the probes run at the base fit snapped to 1/probe_grid of
+//                                     #   each range, 2..100000: diagnoses of nearly equal
+//                                     #   recordings (noise seeds) share the probe runs; a coarse
+//                                     #   grid trades a probe slightly off the fit for that
+//   [diagnosis.cohesion]              # opt, per candidate: its range and probe value
+//   lower = 0.0
+//   upper = 5e-3
+//   probe = 2e-3
+
+#include "config/toml_reader.hpp"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demcal::config {
+
+struct CandidateRange {
+  std::optional<double> lower, upper, probe;
+};
+
+struct DiagnosisConfig {
+  std::vector<std::string> candidates;  // names, in the order to report
+  double alpha = 0.01;
+  std::vector<std::string> hold_out;  // setup names
+  int probe_replicates = 2;
+  int leading = 2;
+  int extended_points = 16;
+  double bayes_factor_threshold = 10.0;
+  int probe_grid = 200;
+  std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides
+  std::size_t line = 0;
+};
+
+// Reads [diagnosis] if present; `setups` are the study's apparatus names (for hold_out).
+std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
+                                              const std::vector<std::string>& setups);
+
+}  // namespace demcal::config

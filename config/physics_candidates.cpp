@@ -1,0 +1,67 @@
+#include "config/physics_candidates.hpp"
+
+namespace demcal::config {
+
+const std::vector<PhysicsCandidate>& physics_candidates() {
+  // Ranges: what is physically plausible for dry to damp sand of 0.3-0.6 mm.
+  // Cohesion: a Bond number (pull-off force / weight) of about 1 for a 0.45 mm
+  // quartz grain is gamma ~ 1e-3 J/m2; 5e-3 is a damp, visibly cohesive sand.
+  // Air drag: [air] drag_scale multiplies Schiller–Naumann's still-air drag
+  // (dem/air_drag.hpp), so 0 is "off" and 1 an isolated smooth sphere; below
+  // 1 stands for drag screened in a dense stream, and up to 3 leaves room for
+  // angular grains, which settle slower than spheres of their volume.
+  static const std::vector<PhysicsCandidate> all = {
+      {"cohesion",
+       "cohesion (JKR surface energy between grains and with the walls)",
+       "surface_energy_j_m2",
+       {"interaction.particle_particle.surface_energy_j_m2",
+        "interaction.particle_wall.surface_energy_j_m2"},
+       {{"contact.adhesion", "jkr"}},
+       0.0,
+       0.0,
+       5.0e-3,
+       2.0e-3},
+      {"wall_friction",
+       "particle-wall sliding friction different from the assumed one",
+       "mu_s_wall",
+       {"interaction.particle_wall.sliding_friction"},
+       {},
+       std::nullopt,
+       0.05,
+       1.0,
+       0.0},  // probe: set from the study's value (see diagnose_command.cpp)
+      {"air_drag",
+       "air drag on the grains (still air, Schiller-Naumann), scaled",
+       "drag_scale",
+       {"air.drag_scale"},
+       {{"air.drag", "schiller_naumann"}},
+       0.0,
+       0.0,
+       3.0,
+       1.5},
+      {"size_spread",
+       "a wider or narrower size distribution (relative half-width about the mean diameter)",
+       "size_relative_half_width",
+       {"material.size.relative_half_width"},
+       {},
+       std::nullopt,
+       0.0,
+       0.6,
+       0.0},  // probe: set from the study's value
+  };
+  return all;
+}
+
+const PhysicsCandidate* find_physics_candidate(const std::string& name) {
+  for (const auto& c : physics_candidates())
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+std::vector<std::string> physics_candidate_names() {
+  std::vector<std::string> n;
+  for (const auto& c : physics_candidates()) n.push_back(c.name);
+  return n;
+}
+
+}  // namespace demcal::config

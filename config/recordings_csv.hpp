@@ -1,0 +1,43 @@
+#pragma once
+// The recordings of a study (DESIGN.md "Files"): a CSV with the header
+//   setup,observable,value,sigma,unit[,repeats]
+// one row per measured quantity, e.g.
+//   sandglass,angle_of_repose_deg,41.57,1.0,deg
+//   sandglass,discharge_time_s,6.56,0.15,s
+// sigma is the measurement's own uncertainty (instrument, reading); the
+// test-to-test scatter is supplied by the DEM's replicate scatter, divided by
+// sqrt(repeats) when the value is the mean of several tests (the optional
+// column repeats, an integer >= 1, default 1).
+// and, for time series, CSVs with the header time_s,<quantity> (e.g.
+// time_s,discharged_mass_kg). Every row is checked: the setup must be an
+// apparatus of the study, the observable one demcal measures, the unit the
+// observable's (deg, s, kg/s, kg/m3), the value and sigma finite numbers with
+// sigma > 0, no observable twice for a setup. A bad row is a ConfigError naming
+// file:line and the reason; nothing is calibrated from a file with one.
+
+#include "calibrate/recording.hpp"
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace demcal::config {
+
+// `setups`: the study's apparatus names.
+std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
+                                                      const std::vector<std::string>& setups);
+// The same from a stream; `file` names it in messages (fuzzing, tests).
+std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
+                                                      const std::filesystem::path& file,
+                                                      const std::vector<std::string>& setups);
+
+calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path,
+                                          const std::string& setup);
+calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesystem::path& path,
+                                          const std::string& setup);
+
+// "deg" for angle_of_repose_deg, ...; throws std::out_of_range for an unknown observable.
+const std::string& unit_of_observable(const std::string& observable);
+
+}  // namespace demcal::config

@@ -1,0 +1,364 @@
+#include "config/simulation_config.hpp"
+
+#include "dem/air_drag.hpp"
+#include "dem/contact/contact_law.hpp"
+#include "dem/insertion/inserter.hpp"
+#include "dem/insertion/region.hpp"
+#include "dem/size_distribution.hpp"
+#include "dem/wall/bounded_plane_wall.hpp"
+#include "dem/wall/cone_wall.hpp"
+#include "dem/wall/cylinder_wall.hpp"
+#include "dem/wall/orifice_plate_wall.hpp"
+#include "dem/wall/plane_wall.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <utility>
+
+namespace demcal::config {
+
+using namespace reader;
+
+namespace {
+
+std::unique_ptr<dem::Region> read_region(Table& r, const dem::Domain& domain) {
+  const std::string shape = r.choice("shape", {"box", "cylinder"});
+  std::unique_ptr<dem::Region> out;
+  if (shape == "box") {
+    const Vec3 lo = r.vec3("lower_m");
+    const Vec3 hi = r.vec3("upper_m");
+    require_above(r, "upper_m", lo, hi, "lower_m");
+    r.finish();
+    out = guarded(r, [&] { return dem::make_box_region(lo, hi); });
+  } else {
+    const Vec3 base = r.vec3("base_centre_m");
+    const double radius = r.number("radius_m", above(0));
+    const double height = r.number("height_m", above(0));
+    r.finish();
+    out = guarded(r, [&] { return dem::make_cylinder_region(base, radius, height); });
+  }
+  // A particle placed outside the box along a bounded axis would stop the run
+  // on its first step with a message about escaping walls; say it here instead.
+  static const char* const kAxis[] = {"x", "y", "z"};
+  const Vec3 lo = out->lower_m(), hi = out->upper_m();
+  for (int k = 0; k < 3; ++k)
+    if (!domain.periodic[k] && (lo[k] < domain.lower_m[k] || hi[k] > domain.upper_m[k]))
+      r.fail_here("the region " + vec_text(lo) + " - " + vec_text(hi) +
+                  " reaches outside the domain along " + kAxis[k] + " ([" +
+                  format_number(domain.lower_m[k]) + ", " + format_number(domain.upper_m[k]) +
+                  "])");
+  return out;
+}
+
+std::unique_ptr<dem::Wall> read_wall_geometry(Table& w, const std::string& type) {
+  if (type == "plane") {
+    const Vec3 p = w.vec3("point_m");
+    const Vec3 n = w.direction("normal");
+    return guarded(w, [&] { return std::make_unique<dem::PlaneWall>(p, n); });
+  }
+  if (type == "rectangle") {
+    const Vec3 c = w.vec3("centre_m");
+    const Vec3 n = w.direction("normal");
+    const Vec3 u = w.direction("axis_u");
+    const double hu = w.number("half_length_u_m", above(0));
+    const double hv = w.number("half_length_v_m", above(0));
+    return guarded(w, [&] { return std::make_unique<dem::RectangleWall>(c, n, u, hu, hv); });
+  }
+  if (type == "disk") {
+    const Vec3 c = w.vec3("centre_m");
+    const Vec3 n = w.direction("normal");
+    const double r = w.number("radius_m", above(0));
+    return guarded(w, [&] { return std::make_unique<dem::DiskWall>(c, n, r); });
+  }
+  if (type == "cylinder") {
+    const Vec3 b = w.vec3("base_m");
+    const Vec3 a = w.direction("axis");
+    const double len = w.number("length_m", above(0));
+    const double r = w.number("radius_m", above(0));
+    return guarded(w, [&] { return std::make_unique<dem::CylinderWall>(b, a, len, r); });
+  }
+  if (type == "cone") {
+    const Vec3 b = w.vec3("base_m");
+    const Vec3 a = w.direction("axis");
+    const double len = w.number("length_m", above(0));
+    const double r0 = w.number("radius_base_m", at_least(0));
+    const double r1 = w.number("radius_end_m", at_least(0));
+    if (r0 == 0.0 && r1 == 0.0)
+      w.fail("radius_end_m", "radius_base_m and radius_end_m cannot both be 0");
+    return guarded(w, [&] { return std::make_unique<dem::ConeWall>(b, a, len, r0, r1); });
+  }
+  // orifice_plate
+  const Vec3 c = w.vec3("centre_m");
+  const Vec3 n = w.direction("normal");
+  const double open_s = w.number("open_time_s", any_number());
+  const bool circle = w.has("diameter_m");
+  const bool slot = w.has("width_m");
+  if (circle && slot)
+    w.fail("width_m", "give diameter_m (a circular hole) or width_m (a slot), not both");
+  if (!circle && !slot)
+    w.fail(
+        "diameter_m",
+        "missing required key; expected diameter_m (a circular hole) or width_m + axis_u (a slot)");
+  const double opening = w.number(circle ? "diameter_m" : "width_m", above(0));
+  const Vec3 u = slot ? w.direction("axis_u") : w.vec3_or("axis_u", Vec3{});
+  const double outer = w.number_or("outer_radius_m", 0.0, at_least(0));
+  const auto shape = circle ? dem::OrificeShape::circle : dem::OrificeShape::slot;
+  return guarded(w, [&] {
+    return std::make_unique<dem::OrificePlateWall>(c, n, u, shape, opening, open_s, outer);
+  });
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- building
+
+SimulationConfig build_simulation(ConfigDocument&& doc) {
+  const Context ctx{doc};
+  Table root(ctx, doc.table, "", node_line(doc.table, 1));
+  // Unknown top-level tables first: a misspelt [simulation] would otherwise be
+  // reported as a missing one.
+  for (const char* k : {"simulation", "domain", "contact", "material", "interaction", "air", "wall",
+                        "insertion", "run", "output"})
+    root.has(k);
+  root.finish();
+
+  SimulationConfig out;
+  out.file = doc.file;
+
+  // [simulation]
+  Table sim_t = root.table("simulation");
+  out.name = read_run_name(sim_t, "name");
+  dem::SimulationOptions opt;
+  opt.seed = static_cast<std::uint64_t>(
+      sim_t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  opt.threads = static_cast<int>(sim_t.integer_or("threads", 1, 1, 4096));
+  opt.gravity_m_s2 = sim_t.vec3_or("gravity_m_s2", Vec3{0, 0, -9.81});
+  opt.time_step_s = sim_t.number_or("time_step_s", 0.0, at_least(0));
+  opt.time_step_fraction_of_rayleigh =
+      sim_t.number_or("time_step_fraction_of_rayleigh", 0.2, between(0, true, 1, false));
+  opt.skin_fraction_of_diameter = sim_t.number_or("skin_fraction_of_diameter", 0.3, above(0));
+  opt.restitution_model = read_restitution_model(sim_t);
+  opt.max_speed_m_s = sim_t.number_or("max_speed_m_s", 0.0, at_least(0));
+  sim_t.finish();
+
+  // [domain]
+  Table dom_t = root.table("domain");
+  opt.domain.lower_m = dom_t.vec3("lower_m");
+  opt.domain.upper_m = dom_t.vec3("upper_m");
+  require_above(dom_t, "upper_m", opt.domain.lower_m, opt.domain.upper_m, "lower_m");
+  opt.domain.periodic = dom_t.bools3_or("periodic", {false, false, false});
+  dom_t.finish();
+
+  // [contact]
+  Table con_t = root.table("contact");
+  opt.contact = read_contact(con_t);
+  con_t.finish();
+
+  const dem::Domain domain = opt.domain;
+  const Vec3 gravity = opt.gravity_m_s2;
+  auto sim = guarded(sim_t, [&] { return std::make_unique<dem::Simulation>(std::move(opt)); });
+
+  // [[material]]
+  std::vector<Table> mat_ts = root.tables("material", true);
+  std::vector<std::string> material_names;
+  for (Table& m : mat_ts) {
+    dem::Material mat;
+    mat.name = m.string("name");
+    if (mat.name.empty()) m.fail("name", "expected a non-empty string");
+    for (std::size_t j = 0; j < material_names.size(); ++j)
+      if (material_names[j] == mat.name)
+        m.fail("name", "material \"" + mat.name + "\" is already defined at line " +
+                           std::to_string(mat_ts[j].line()));
+    read_material_properties(m, mat);
+    m.finish();
+    guarded(m, [&] { return sim->add_material(mat); });
+    material_names.push_back(mat.name);
+  }
+  auto material = [&](Table& t, std::string_view key, const std::string& name) {
+    for (std::size_t i = 0; i < material_names.size(); ++i)
+      if (material_names[i] == name) return static_cast<int>(i);
+    t.fail(key, "unknown material \"" + name + "\"; defined: " + quoted_list(material_names));
+  };
+
+  // [[interaction]]
+  std::vector<Table> int_ts = root.tables("interaction", true);
+  std::map<std::pair<int, int>, std::size_t> given;  // pair -> line
+  std::vector<SurfaceEnergyKey> surface_energies;
+  for (Table& t : int_ts) {
+    const auto [na, nb] = t.string_pair("materials");
+    const int a = material(t, "materials", na);
+    const int b = material(t, "materials", nb);
+    const auto key = std::minmax(a, b);
+    if (auto it = given.find(key); it != given.end())
+      t.fail("materials", "the pair \"" + na + "\"-\"" + nb + "\" is already given at line " +
+                              std::to_string(it->second));
+    given[key] = t.line();
+    const dem::InteractionParameters p = read_interaction(t);
+    t.finish();
+    guarded(t, [&] { sim->set_interaction(a, b, p); });
+    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
+  }
+  check_surface_energies(con_t, sim->options().contact.adhesion, surface_energies);
+
+  // [air]: absent means no drag, and is not written in.
+  if (root.has("air")) {
+    Table air_t = root.table("air");
+    if (const auto air = read_air(air_t))
+      guarded(air_t, [&] { sim->add_body_force(std::make_unique<dem::AirDrag>(*air)); });
+  }
+
+  // [[wall]]
+  std::vector<Table> wall_ts = root.tables("wall", false);
+  std::vector<int> wall_material;
+  for (std::size_t i = 0; i < wall_ts.size(); ++i) {
+    Table& w = wall_ts[i];
+    const std::string type =
+        w.choice("type", {"plane", "rectangle", "disk", "cylinder", "cone", "orifice_plate"});
+    const int mat = material(w, "material", w.string("material"));
+    const std::string name = w.string_or("name", type + "-" + std::to_string(i));
+    if (name.empty()) w.fail("name", "expected a non-empty string");
+    for (std::size_t j = 0; j < out.wall_names.size(); ++j)
+      if (out.wall_names[j] == name)
+        w.fail("name", "wall \"" + name + "\" is already defined at line " +
+                           std::to_string(wall_ts[j].line()));
+    std::unique_ptr<dem::Wall> wall = read_wall_geometry(w, type);
+    dem::WallMotion motion;
+    motion.velocity_m_s = w.vec3_or("velocity_m_s", Vec3{});
+    motion.start_s = w.number_or("moves_from_s", 0.0, any_number());
+    if (w.has("moves_until_s")) {
+      motion.stop_s = w.number("moves_until_s", above(motion.start_s));
+    }
+    w.finish();
+    wall->set_motion(motion);
+    guarded(w, [&] { return sim->add_wall(std::move(wall), mat); });
+    out.wall_names.push_back(name);
+    wall_material.push_back(mat);
+  }
+
+  // [[insertion]]
+  std::vector<Table> ins_ts = root.tables("insertion", true);
+  std::vector<int> particle_material;
+  for (Table& t : ins_ts) {
+    const std::string type = t.choice("type", {"pour", "fill"});
+    const int mat = material(t, "material", t.string("material"));
+    dem::InsertionAmount amount;
+    const bool has_count = t.has("count");
+    const bool has_mass = t.has("mass_kg");
+    if (!has_count && !has_mass)
+      t.fail(
+          "count",
+          "missing required key; expected count (an integer >= 1) and/or mass_kg (a number > 0)");
+    if (has_count)
+      amount.count =
+          static_cast<std::size_t>(t.integer("count", 1, std::numeric_limits<std::int64_t>::max()));
+    if (has_mass) amount.mass_kg = t.number("mass_kg", above(0));
+    Table size_t_ = t.table("size");
+    auto sizes = read_size(size_t_);
+    Table region_t = t.table("region");
+    auto region = read_region(region_t, domain);
+    const double density = sim->materials()[static_cast<std::size_t>(mat)].density_kg_m3;
+    std::unique_ptr<dem::Inserter> inserter;
+    if (type == "pour") {
+      dem::PourOptions o;
+      o.material = mat;
+      o.density_kg_m3 = density;
+      o.amount = amount;
+      o.gravity_m_s2 = gravity;
+      o.velocity_m_s = t.vec3_or("velocity_m_s", Vec3{});
+      o.start_s = t.number_or("start_s", 0.0, at_least(0));
+      const bool has_rate = t.has("rate_particles_per_s");
+      if (has_rate && t.has("batch_volume_fraction"))
+        t.fail("batch_volume_fraction",
+               "give rate_particles_per_s (a steady rate) or batch_volume_fraction (batches), not "
+               "both");
+      if (has_rate) {
+        o.rate_particles_per_s = t.number("rate_particles_per_s", above(0));
+      } else {
+        o.batch_volume_fraction =
+            t.number_or("batch_volume_fraction", 0.3, between(0, true, 0.6, true));
+      }
+      o.attempts_per_particle =
+          static_cast<int>(t.integer_or("attempts_per_particle", 200, 1, 1000000));
+      t.finish();
+      inserter = guarded(
+          t, [&] { return dem::make_pour_inserter(std::move(region), std::move(sizes), o); });
+    } else {
+      dem::FillOptions o;
+      o.material = mat;
+      o.density_kg_m3 = density;
+      o.amount = amount;
+      o.time_s = t.number_or("time_s", 0.0, at_least(0));
+      o.method = t.choice_or("method", {"random", "lattice"}, "random");
+      o.lattice_gap = t.number_or("lattice_gap", 0.05, at_least(0));
+      o.attempts_per_particle =
+          static_cast<int>(t.integer_or("attempts_per_particle", 400, 1, 1000000));
+      t.finish();
+      inserter = guarded(
+          t, [&] { return dem::make_fill_inserter(std::move(region), std::move(sizes), o); });
+    }
+    guarded(t, [&] { sim->add_inserter(std::move(inserter)); });
+    out.insertion_types.push_back(type);
+    particle_material.push_back(mat);
+  }
+
+  // Every pair that can touch needs coefficients. The engine checks this on
+  // its first step; checking here points at the table that needs the pair.
+  for (std::size_t i = 0; i < ins_ts.size(); ++i) {
+    const int a = particle_material[i];
+    auto require = [&](int b, Table& t) {
+      if (!given.contains(std::minmax(a, b)))
+        t.fail("material", "no [[interaction]] for materials \"" +
+                               material_names[static_cast<std::size_t>(a)] + "\" and \"" +
+                               material_names[static_cast<std::size_t>(b)] +
+                               "\"; every pair that can touch needs one");
+    };
+    for (std::size_t j = 0; j <= i; ++j) require(particle_material[j], ins_ts[i]);
+    for (std::size_t w = 0; w < wall_ts.size(); ++w) require(wall_material[w], wall_ts[w]);
+  }
+
+  // [run]
+  Table run_t = root.table("run");
+  out.run.end_time_s = run_t.number("end_time_s", above(0));
+  out.run.stop_at_rest = run_t.boolean_or("stop_at_rest", true);
+  out.run.rest_speed_m_s = run_t.number_or("rest_speed_m_s", 2e-3, above(0));
+  out.run.check_interval_s = run_t.number_or("check_interval_s", 0.01, above(0));
+  // As for a study's protocol (config/run_sanity.hpp): a grain released from rest
+  // reaches rest_speed_m_s only after rest_speed_m_s / g; a finer check declares
+  // a falling fill at rest.
+  if (const double g = dem::norm(gravity);
+      out.run.stop_at_rest && g > 0.0 && out.run.check_interval_s < out.run.rest_speed_m_s / g)
+    run_t.fail(
+        "check_interval_s",
+        "expected at least rest_speed_m_s / g = " + format_number(out.run.rest_speed_m_s / g) +
+            " s, got " + format_number(out.run.check_interval_s) +
+            ": a check finer than the dynamics declares a fill at rest while it is still "
+            "falling (a grain released from rest needs that long to reach rest_speed_m_s)");
+  run_t.finish();
+
+  // [output]
+  Table out_t = root.table_or_empty("output");
+  const std::string dir = out_t.string_or("directory", "out/" + out.name);
+  if (dir.empty()) out_t.fail("directory", "expected a non-empty path");
+  out.output.directory = dir;
+  out.output.vtk = out_t.boolean_or("vtk", true);
+  out.output.snapshot_interval_s = out_t.number_or("snapshot_interval_s", 0.0, at_least(0));
+  out_t.finish();
+
+  root.finish();
+  out.simulation = std::move(sim);
+  out.resolved = std::move(doc.table);
+  return out;
+}
+
+SimulationConfig load_simulation_config(const std::filesystem::path& path,
+                                        const std::vector<std::string>& overrides) {
+  ConfigDocument doc = read_config_file(path);
+  for (const auto& o : overrides) apply_override(doc, o);
+  return build_simulation(std::move(doc));
+}
+
+}  // namespace demcal::config

@@ -1,0 +1,427 @@
+#include "config/study_config.hpp"
+
+#include "config/calibration_config.hpp"
+#include "config/run_sanity.hpp"
+#include "config/surrogate_config.hpp"
+
+#include "dem/apparatus/conical_pile.hpp"
+#include "dem/apparatus/rectangular_container.hpp"
+#include "dem/apparatus/sandglass.hpp"
+#include "dem/contact/restitution_damping.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace demcal::config {
+
+using namespace reader;
+
+namespace {
+
+// Whether `key` occurs in `text` as a whole identifier (so that "height_m"
+// does not match inside "upper_height_m").
+std::size_t find_identifier(const std::string& text, const std::string& key) {
+  auto ident = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  for (std::size_t pos = text.find(key); pos != std::string::npos; pos = text.find(key, pos + 1)) {
+    const bool before_ok = pos == 0 || !ident(text[pos - 1]);
+    const std::size_t end = pos + key.size();
+    const bool after_ok = end >= text.size() || !ident(text[end]);
+    if (before_ok && after_ok) return pos;
+  }
+  return std::string::npos;
+}
+
+// Constructing an apparatus checks its geometry against the fill; what it
+// refuses is an input error. It is reported at the key its message names
+// first (keys with an underscore: one-word keys are also plain words) (the one the message is
+// about: "fill_mass_kg = ... needs more than
+// ..."; keys named later are suggested remedies), else at the table.
+template <class F>
+std::unique_ptr<dem::Apparatus> build_guarded(const Table& t, F&& make) {
+  try {
+    return make();
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::logic_error& e) {
+    const std::string message = e.what();
+    std::size_t best = std::string::npos;
+    const std::string* key = nullptr;
+    for (const std::string& k : t.known_keys()) {
+      // One-word keys ("boundary", "slice") are also English words in messages.
+      if (k.find('_') == std::string::npos) continue;
+      const std::size_t pos = find_identifier(message, k);
+      if (pos < best) {
+        best = pos;
+        key = &k;
+      }
+    }
+    if (key != nullptr) t.fail(*key, message);
+    t.fail_here(message);
+  }
+}
+
+dem::ModelReduction read_reduction(Table& t, bool slice_applies) {
+  dem::ModelReduction r;
+  if (slice_applies) {
+    r.slice = t.boolean_or("slice", false);
+    // Left alone without slice so that toggling slice with --set needs no second override.
+    if (t.has("slice_thickness_diameters") || r.slice)
+      r.slice_thickness_diameters =
+          t.number_or("slice_thickness_diameters", r.slice_thickness_diameters, at_least(2));
+  } else {
+    for (const char* k : {"slice", "slice_thickness_diameters"})
+      if (t.contains(k))
+        t.fail(k,
+               "does not apply here: the container's thickness is thickness_m or "
+               "thickness_diameters, its front and rear are `boundary`");
+  }
+  r.coarse_graining_factor = t.number_or("coarse_graining_factor", 1.0, above(0));
+  r.shear_modulus_pa = t.number_or("shear_modulus_pa", 0.0, at_least(0));
+  return r;
+}
+
+const Range kPositive = above(0);
+const Range kHalfAngle = between(0, true, 80, true);
+// A dimension of a laboratory test: positive, and at most kMaxApparatusExtent_m
+// (a 1e6 m chamber is a slip, and its fill lattice alone would not fit in memory).
+constexpr Plausible kMaxLength{kMaxApparatusExtent_m, "no laboratory test is larger"};
+
+std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m,
+                                               double max_steps, const dem::RunProtocol& p) {
+  dem::SandglassOptions o;
+  o.upper_diameter_m = t.number_at_most("upper_diameter_m", kPositive, kMaxLength);
+  o.upper_height_m = t.number_at_most("upper_height_m", kPositive, kMaxLength);
+  o.bottom = t.choice("bottom", {"flat", "conical"});
+  if (o.bottom == "conical" || t.has("hopper_half_angle_deg"))
+    o.hopper_half_angle_deg = t.number("hopper_half_angle_deg", kHalfAngle);
+  o.orifice_diameter_m = t.number_at_most("orifice_diameter_m", kPositive, kMaxLength);
+  if (o.bottom == "conical")
+    check_cone_height(t, "hopper_half_angle_deg", o.upper_diameter_m, o.orifice_diameter_m,
+                      o.hopper_half_angle_deg);
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.lower_diameter_m = t.number_at_most("lower_diameter_m", kPositive, kMaxLength);
+  // Refused here, naming both: the engine's message names lower_diameter_m
+  // first, which blames it when upper_diameter_m is the one too large.
+  if (o.lower_diameter_m < o.upper_diameter_m)
+    t.fail_here("upper_diameter_m = " + format_number(o.upper_diameter_m) +
+                " exceeds lower_diameter_m = " + format_number(o.lower_diameter_m) +
+                ": the lower chamber must be at least as wide as the upper one (one of the two "
+                "is wrong)");
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
+  o.form_pile = t.boolean_or("form_pile", o.form_pile);
+  o.fill_lattice_spacing_diameters =
+      t.number_or("fill_lattice_spacing_diameters", o.fill_lattice_spacing_diameters,
+                  between(1, true, 3, false));
+  o.reduction = read_reduction(t, true);
+  t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
+  return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
+}
+
+std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m,
+                                                  double max_steps, const dem::RunProtocol& p) {
+  dem::ConicalPileOptions o;
+  o.funnel_top_diameter_m = t.number_at_most("funnel_top_diameter_m", kPositive, kMaxLength);
+  o.funnel_outlet_diameter_m = t.number_at_most("funnel_outlet_diameter_m", kPositive, kMaxLength);
+  o.funnel_half_angle_deg = t.number("funnel_half_angle_deg", kHalfAngle);
+  check_cone_height(t, "funnel_half_angle_deg", o.funnel_top_diameter_m, o.funnel_outlet_diameter_m,
+                    o.funnel_half_angle_deg);
+  o.feed_height_m = t.number_at_most("feed_height_m", kPositive, kMaxLength);
+  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
+  o.base_diameter_m = t.number_at_most("base_diameter_m", kPositive, kMaxLength);
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.reduction = read_reduction(t, true);
+  t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
+  return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
+}
+
+std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t, const dem::GranularMaterial& m,
+                                                           double max_steps,
+                                                           const dem::RunProtocol& p) {
+  dem::RectangularContainerOptions o;
+  o.width_m = t.number_at_most("width_m", kPositive, kMaxLength);
+  o.height_m = t.number_at_most("height_m", kPositive, kMaxLength);
+  const bool has_m = t.has("thickness_m");
+  const bool has_d = t.has("thickness_diameters");
+  if (!has_m && !has_d)
+    t.fail("thickness_m",
+           "missing required key; expected thickness_m (a number > 0) or thickness_diameters "
+           "(a number > 0)");
+  if (has_m && has_d)
+    t.fail("thickness_diameters", "give thickness_m or thickness_diameters, not both");
+  if (has_m) o.thickness_m = t.number_at_most("thickness_m", kPositive, kMaxLength);
+  if (has_d) o.thickness_diameters = t.number("thickness_diameters", kPositive);
+  o.boundary = t.choice("boundary", {"walls", "periodic"});
+  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
+  o.inlet_width_m = t.number_or("inlet_width_m", 0.0, at_least(0));
+  o.inlet_height_m = t.number_or("inlet_height_m", 0.0, between(0, false, o.height_m, true));
+  o.inlet_speed_m_s = t.number_or("inlet_speed_m_s", 0.5, kPositive);
+  o.median_band_diameters = t.number_or("median_band_diameters", 2.0, kPositive);
+  o.reduction = read_reduction(t, false);
+  t.finish();
+  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_run_estimate(t, m, o.reduction, p, max_steps);
+  return build_guarded(t, [&] { return std::make_unique<dem::RectangularContainer>(o, m, p); });
+}
+
+dem::Material read_named_material(Table& t) {
+  dem::Material m;
+  m.name = t.string("name");
+  if (m.name.empty()) t.fail("name", "expected a non-empty string");
+  read_material_properties(t, m);
+  return m;
+}
+
+}  // namespace
+
+const std::vector<std::string>& known_apparatus_names() {
+  static const std::vector<std::string> names = {"sandglass", "conical_pile",
+                                                 "rectangular_container"};
+  return names;
+}
+
+const OverrideAliases& study_override_aliases() {
+  static const OverrideAliases aliases = {
+      {"mu_s", "interaction.particle_particle.sliding_friction"},
+      {"mu_r", "interaction.particle_particle.rolling_friction"},
+      {"mu_s_wall", "interaction.particle_wall.sliding_friction"},
+      {"mu_r_wall", "interaction.particle_wall.rolling_friction"},
+      {"surface_energy", "interaction.particle_particle.surface_energy_j_m2"},
+      {"surface_energy_wall", "interaction.particle_wall.surface_energy_j_m2"},
+      {"size_spread", "material.size.relative_half_width"},
+      {"drag_scale", "air.drag_scale"},
+  };
+  return aliases;
+}
+
+bool is_study_config(const ConfigDocument& doc) { return doc.table.contains("apparatus"); }
+
+StudyConfig build_study(ConfigDocument&& doc) {
+  const Context ctx{doc};
+  Table root(ctx, doc.table, "", node_line(doc.table, 1));
+  // Unknown top-level tables first: a misspelt [material] would otherwise be
+  // reported as a missing one.
+  for (const char* k :
+       {"study", "material", "wall_material", "contact", "interaction", "air", "protocol",
+        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
+    root.has(k);
+  root.finish();
+
+  StudyConfig out;
+  out.file = doc.file;
+  dem::RunProtocol& protocol = out.protocol;
+  const dem::RunProtocol defaults;
+
+  // [study]
+  Table study_t = root.table("study");
+  out.name = read_run_name(study_t, "name");
+  protocol.seed = static_cast<std::uint64_t>(
+      study_t.integer_or("seed", static_cast<std::int64_t>(defaults.seed), 0,
+                         std::numeric_limits<std::int64_t>::max()));
+  protocol.threads = static_cast<int>(study_t.integer_or("threads", defaults.threads, 1, 4096));
+  study_t.finish();
+
+  // [material], [wall_material]
+  dem::GranularMaterial& material = out.material;
+  Table mat_t = root.table("material");
+  material.particle = read_named_material(mat_t);
+  Table size_t_ = mat_t.table("size");
+  material.sizes = read_size(size_t_);
+  mat_t.finish();
+  guarded(mat_t, [&] { material.particle.validate(); });
+
+  Table wall_t = root.table("wall_material");
+  material.wall = read_named_material(wall_t);
+  wall_t.finish();
+  guarded(wall_t, [&] { material.wall.validate(); });
+
+  // [contact]
+  Table con_t = root.table("contact");
+  material.contact = read_contact(con_t);
+  material.restitution_model = read_restitution_model(con_t);
+  con_t.finish();
+
+  // [interaction.particle_particle], [interaction.particle_wall]
+  Table int_t = root.table("interaction");
+  std::vector<Table> pair_ts;
+  std::vector<SurfaceEnergyKey> surface_energies;
+  pair_ts.reserve(2);  // surface_energies points into it
+  for (const char* pair : {"particle_particle", "particle_wall"}) {
+    Table& t = pair_ts.emplace_back(int_t.table(pair));
+    const dem::InteractionParameters p = read_interaction(t);
+    t.finish();
+    guarded(t, [&] { p.validate(t.path() + ": "); });
+    // The exact model's damping is found by a root search that resolves
+    // restitutions down to smallest_resolved_restitution() only.
+    if (material.restitution_model == dem::RestitutionModel::kExact) try {
+        (void)dem::damping_beta_for_restitution(p.restitution);
+      } catch (const std::invalid_argument& e) {
+        t.fail("restitution", e.what());
+      }
+    (std::string(pair) == "particle_particle" ? material.particle_particle
+                                              : material.particle_wall) = p;
+    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
+  }
+  int_t.finish();
+  check_surface_energies(con_t, material.contact.adhesion, surface_energies);
+
+  // [air]: absent means no drag, and is not written in (the runs of studies
+  // without it resolve, and hash, as before it existed).
+  if (root.has("air")) {
+    Table air_t = root.table("air");
+    material.air_drag = read_air(air_t);
+  }
+
+  // [protocol]
+  Table prot_t = root.table_or_empty("protocol");
+  protocol.rest_speed_m_s = prot_t.number_or("rest_speed_m_s", defaults.rest_speed_m_s, kPositive);
+  protocol.check_interval_s =
+      prot_t.number_or("check_interval_s", defaults.check_interval_s, kPositive);
+  protocol.max_settle_s = prot_t.number_or("max_settle_s", defaults.max_settle_s, kPositive);
+  protocol.max_flow_s = prot_t.number_or("max_flow_s", defaults.max_flow_s, kPositive);
+  protocol.sample_interval_s =
+      prot_t.number_or("sample_interval_s", defaults.sample_interval_s, kPositive);
+  protocol.stall_time_s = prot_t.number_or("stall_time_s", defaults.stall_time_s, kPositive);
+  protocol.time_step_fraction_of_rayleigh =
+      prot_t.number_or("time_step_fraction_of_rayleigh", defaults.time_step_fraction_of_rayleigh,
+                       between(0, true, 1, false));
+  // Not written in when absent: the runs of studies without it keep their hashes.
+  const double max_steps =
+      prot_t.has("max_steps") ? prot_t.number("max_steps", at_least(1)) : kDefaultMaxSteps;
+  check_rest_protocol(prot_t, protocol, material);
+  prot_t.finish();
+
+  // [apparatus.*]: a table named after its kind ([apparatus.sandglass]), or
+  // any name with the kind given (type = "sandglass"), so that one study can
+  // hold several setups of one kind — the sandglass at three orifices.
+  Table app_t = root.table("apparatus");
+  toml::table& app_toml = *doc.table.get("apparatus")->as_table();
+  std::vector<std::string> defined;
+  for (auto& [k, v] : app_toml) {
+    defined.emplace_back(k.str());
+    app_t.has(k.str());
+  }
+  app_t.finish();
+  if (defined.empty()) {
+    std::string expected;
+    for (const std::string& n : known_apparatus_names())
+      expected += (expected.empty() ? "[apparatus." : ", [apparatus.") + n + "]";
+    app_t.fail_here("defines no apparatus; expected one or more of " + expected);
+  }
+  for (const std::string& name : defined) {
+    Table t = app_t.table(name);
+    const auto& kinds = known_apparatus_names();
+    const bool named_by_kind = std::find(kinds.begin(), kinds.end(), name) != kinds.end();
+    if (!named_by_kind && !t.contains("type"))
+      t.fail_here("unknown key; expected one of " + quoted_list(kinds) +
+                  ", or a setup name of your own with type = \"<kind>\"");
+    // Not written in when absent: a run's hash is its resolved inputs, and the
+    // runs of studies written before setups had names must keep theirs.
+    const std::string kind = !named_by_kind  ? t.choice("type", kinds)
+                             : t.has("type") ? t.choice("type", {name})
+                                             : name;
+    if (!named_by_kind && !std::all_of(name.begin(), name.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+        }))
+      t.fail_here("a setup name takes letters, digits, _ and - only (it names files)");
+    StudyApparatus a;
+    a.name = name;
+    a.kind = kind;
+    a.line = t.line();
+    if (kind == "sandglass")
+      a.apparatus = read_sandglass(t, material, max_steps, protocol);
+    else if (kind == "conical_pile")
+      a.apparatus = read_conical_pile(t, material, max_steps, protocol);
+    else
+      a.apparatus = read_rectangular_container(t, material, max_steps, protocol);
+    check_apparatus_extent(t, *a.apparatus);
+    out.apparatus.push_back(std::move(a));
+  }
+  std::stable_sort(
+      out.apparatus.begin(), out.apparatus.end(),
+      [](const StudyApparatus& a, const StudyApparatus& b) { return a.line < b.line; });
+
+  // [output]
+  Table out_t = root.table_or_empty("output");
+  if (out_t.has("directory")) {
+    const std::string dir = out_t.string("directory");
+    if (dir.empty()) out_t.fail("directory", "expected a non-empty path");
+    out.output.directory = dir;
+  }
+  out.output.vtk = out_t.boolean_or("vtk", false);
+  out.output.snapshot_interval_s = out_t.number_or("snapshot_interval_s", 0.0, at_least(0));
+  out_t.finish();
+
+  // [design]
+  out.design = read_design(ctx, root, doc.table);
+  // [surrogate]
+  out.surrogate = read_surrogate(root);
+  // [calibration]
+  out.calibration = read_calibration(root, doc.file, out.design);
+  // [diagnosis]
+  {
+    std::vector<std::string> setups;
+    for (const auto& a : out.apparatus) setups.push_back(a.name);
+    out.diagnosis = read_diagnosis(root, setups);
+  }
+
+  root.finish();
+  out.resolved = std::move(doc.table);
+  return out;
+}
+
+StudyConfig load_study_config(const std::filesystem::path& path,
+                              const std::vector<std::string>& overrides) {
+  ConfigDocument doc = read_config_file(path);
+  for (const auto& o : overrides) apply_override(doc, o, study_override_aliases());
+  return build_study(std::move(doc));
+}
+
+StudyApparatus& select_apparatus(StudyConfig& study, const std::optional<std::string>& requested) {
+  std::vector<std::string> names;
+  for (const StudyApparatus& a : study.apparatus) names.push_back(a.name);
+  if (requested) {
+    for (StudyApparatus& a : study.apparatus)
+      if (a.name == *requested) return a;
+    throw ConfigError(study.file + ": --apparatus " + *requested +
+                      ": the study defines no apparatus \"" + *requested +
+                      "\"; defined: " + quoted_list(names));
+  }
+  if (study.apparatus.size() != 1)
+    throw ConfigError(study.file + ":" + std::to_string(study.apparatus.front().line) +
+                      ": apparatus: the study defines " + std::to_string(names.size()) +
+                      " apparatus (" + quoted_list(names) + "); choose one with --apparatus NAME");
+  return study.apparatus.front();
+}
+
+std::filesystem::path output_directory(const StudyConfig& study, const std::string& apparatus) {
+  if (!study.output.directory.empty()) return study.output.directory;
+  return std::filesystem::path("out") / study.name / apparatus;
+}
+
+toml::table resolved_for(const StudyConfig& study, const std::string& apparatus) {
+  toml::table t = study.resolved;
+  t.erase("design");
+  t.erase("surrogate");
+  t.erase("calibration");
+  t.erase("diagnosis");  // like the three above: it does not change a run, so not its hash
+  if (toml::table* apps = t["apparatus"].as_table()) {
+    toml::table only;
+    if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);
+    *apps = std::move(only);
+  }
+  if (toml::table* o = t["output"].as_table())
+    o->insert_or_assign("directory", output_directory(study, apparatus).string());
+  return t;
+}
+
+}  // namespace demcal::config

@@ -1,0 +1,83 @@
+#pragma once
+// The diagnosis of missing physics (`demcal diagnose <study.toml>`): when no parameter set of the
+// base model reproduces the recordings, find where they part, name the physics the model left out,
+// add it and show the fit improve (DESIGN.md "Missing physics"; the statistics are
+// calibrate/discrepancy_diagnosis.hpp, the candidates config/physics_candidates.hpp, the settings
+// the study's [diagnosis] table, config/diagnosis_config.hpp).
+//
+// What runs, in order, each step resumable through the run store:
+//   1. the study's own pipeline (`demcal study`): design, runs, surrogates;
+//   2. the base calibration on every recording not held out, and the
+//      chi-square test. When the base model fits, it stops here and says so:
+//      no DEM run is spent on candidates;
+//   3. per candidate, a probe: the DEM at the base fit with the candidate
+//      switched on at its probe value (probe_replicates seeds per setup), so
+//      that the sensitivity of every recording to it is measured, not assumed.
+//      A candidate whose base value lies inside its range (wall friction, size
+//      spread) is probed on both sides of it, and its sensitivity is the secant
+//      between the two: an effect that saturates on one side shows on the other;
+//   4. the leading candidates by the score test get a design extended into
+//      their parameter (Latin hypercube in (parameters, candidate)), which,
+//      with the base design at the candidate's "off" value, fits surrogates
+//      with the candidate's parameter as one more input;
+//   5. the comparison by evidence, the chosen module, before/after.
+// Each probe and extended design is a study of its own, written to
+//   <output>/<study>/diagnosis/<candidate>-probe/study.toml
+//   <output>/<study>/diagnosis/<candidate>-extended/study.toml
+// (the study with the candidate's switches and a [design] of its own), run
+// with the design runner (`demcal doe`) into <output>/<study>--<candidate>-{probe,extended}/, so
+// every DEM run of the diagnosis can be inspected, rerun or shared.
+//
+// Writes <output>/<study>/reports/diagnosis/index.html (the verdict in words
+// first) and diagnosis.json beside it.
+
+#include "study/progress_observer.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace demcal::study {
+
+// What a derived design's run left: whether every row has a result, and its table.
+struct DerivedDesignOutcome {
+  bool complete = false;
+  std::size_t executed = 0;  // DEM runs executed now (not found in the store)
+  std::filesystem::path table_csv;
+};
+
+// The steps the diagnosis drives that are commands of their own, with their
+// own console output: the caller (cli/diagnose_command.cpp) runs them.
+class DiagnosisSteps {
+ public:
+  virtual ~DiagnosisSteps() = default;
+  // Step 1, the study's own pipeline (`demcal study`: design, runs,
+  // surrogates, calibration). False when runs are left undone.
+  virtual bool run_study_pipeline() = 0;
+  // The design of the derived study `study_file` (a probe or an extended
+  // design), run into the run store with its table written.
+  virtual DerivedDesignOutcome run_design(const std::filesystem::path& study_file) = 0;
+};
+
+struct DiagnosisWorkflowOptions {
+  std::filesystem::path study;
+  std::vector<std::string> overrides;  // --set, as for every command
+  std::filesystem::path output_dir = "out";
+};
+
+struct DiagnosisOutcome {
+  std::filesystem::path report;  // empty when the diagnosis stopped incomplete
+  std::filesystem::path json;
+  std::string outcome;  // calibrate::to_string(DiagnosisOutcome), "incomplete" when runs are left
+  std::string summary;
+  std::size_t dem_runs_executed = 0;  // by the diagnosis itself (probes, extended designs)
+};
+
+// Reads the study (ConfigError for any input problem, before a DEM run),
+// runs the steps above and writes the report. Progress lines go to
+// `observer`'s on_message.
+DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& options, DiagnosisSteps& steps,
+                                ProgressObserver& observer);
+
+}  // namespace demcal::study
