@@ -70,7 +70,6 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   for (const auto& a : map.approximations) s << "# approximation: " << a << "\n";
   s << "\nunits           si\n"
     << "atom_style      sphere\n"
-    << "atom_modify     map array\n"
     << "boundary        " << (l.periodic[0] ? "p" : "f") << " " << (l.periodic[1] ? "p" : "f")
     << " " << (l.periodic[2] ? "p" : "f") << "\n"
     << "newton          off\n"

@@ -99,7 +99,6 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   for (const auto& a : m.approximations) s << "# approximation: " << a << "\n";
   auto pair2 = [](double a, double b) { return n(a) + " " + n(b) + " " + n(b) + " " + n(b); };
   s << "\natom_style      granular\n"
-    << "atom_modify     map array\n"
     << "boundary        " << (l.periodic[0] ? "p" : "f") << " " << (l.periodic[1] ? "p" : "f")
     << " " << (l.periodic[2] ? "p" : "f") << "\n"
     << "newton          off\n"
