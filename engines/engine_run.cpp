@@ -56,7 +56,9 @@ EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
   r.log = directory / launch.log_name;
   const std::string cmd = "cd " + quoted(directory.string()) + " && " + launch.command + " -in " +
                           quoted(deck.script_name) + " -log " + quoted(launch.log_name) +
-                          " -screen none > engine.stdout 2>&1";
+                          // LIGGGHTS 3.8 crashes writing its warnings with -screen none.
+                          (deck.engine == "liggghts" ? "" : " -screen none") +
+                          " > engine.stdout 2>&1";
   const auto start = std::chrono::steady_clock::now();
   const int status = std::system(cmd.c_str());
   r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

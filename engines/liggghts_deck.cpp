@@ -9,6 +9,8 @@ namespace {
 
 std::string n(double v) { return deck_number(v); }
 
+constexpr double kMinPeriodicMeshExtentDiameters = 6.0;
+
 const char* const kAxis[3] = {"x", "y", "z"};
 
 // LIGGGHTS wants its random seeds prime and above 10000.
@@ -83,9 +85,24 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   const auto mapped = map_to_liggghts(l.material, l.reduction, o.mapping);
   if (!mapped.ok()) return {std::nullopt, mapped.refusal};
   const LiggghtsMapping& m = *mapped.mapping;
-  const std::string model = m.pair_style_words();
+  const std::string model = m.model_words();
   double d_max = 0.0;
   for (const auto& [d, p] : l.size_classes) d_max = std::max(d_max, d);
+  // Measured with LIGGGHTS 3.8 (Debian): mesh walls in a periodic slab fail an
+  // assertion (region_neighbor_list_I.h:165) at setup when the slab is 5 d
+  // thick and run at 6 d (d = 1 mm, skin 0.3 d).
+  const bool meshes = !l.blocks.empty() || !l.closing_blocks.empty() || !l.opened_blocks.empty();
+  for (int a = 0; a < 3; ++a) {
+    const double extent = a == 0   ? l.box.upper_m.x - l.box.lower_m.x
+                          : a == 1 ? l.box.upper_m.y - l.box.lower_m.y
+                                   : l.box.upper_m.z - l.box.lower_m.z;
+    if (meshes && l.periodic[a] && extent < kMinPeriodicMeshExtentDiameters * d_max)
+      return {std::nullopt,
+              "LIGGGHTS 3.8 cannot run mesh walls in a periodic slab thinner than " +
+                  n(kMinPeriodicMeshExtentDiameters) + " diameters (this one: " + n(extent / d_max) +
+                  "; its region neighbour list fails an assertion); thicken the slice "
+                  "(slice_thickness_diameters)"};
+  }
   Deck deck;
   deck.engine = "liggghts";
 
@@ -124,7 +141,7 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair 2 "
       << pair2(m.particle_particle.rolling_damping_ratio, m.particle_wall.rolling_damping_ratio)
       << "\n";
-  s << "pair_style      gran " << model << "\n"
+  s << "pair_style      gran " << m.pair_style_words() << "\n"
     << "pair_coeff      * *\n"
     << "timestep        " << n(l.time_step_s) << "\n"
     << "fix             gravity all gravity 9.81 vector 0.0 0.0 -1.0\n\n"
@@ -168,7 +185,21 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
 
   if (l.pour) {
     const auto& in = *l.pour;
-    s << "\n# insertion: poured from the inlet, " << l.particles << " particles\n";
+    // LAMMPS's fix pour (and demcal's pour): a batch filling the inlet to the
+    // volume fraction each time the last one has fallen clear of it. LIGGGHTS
+    // 3.8 has no pour; insert/rate/region at the same mean rate, batch by batch.
+    const double height = in.region.upper_m.z - in.region.lower_m.z;
+    const double fall_s =
+        (-in.speed_m_s + std::sqrt(in.speed_m_s * in.speed_m_s + 2.0 * 9.81 * height)) / 9.81;
+    const long every = steps_for(fall_s, l.time_step_s);
+    const double volume = (in.region.upper_m.x - in.region.lower_m.x) *
+                          (in.region.upper_m.y - in.region.lower_m.y) * height;
+    const double grain_volume = l.mean_particle_mass_kg() / l.density_kg_m3;
+    const double rate = in.batch_volume_fraction * volume / grain_volume /
+                        (static_cast<double>(every) * l.time_step_s);
+    s << "\n# insertion: poured from the inlet, " << l.particles << " particles, a batch of "
+      << n(std::round(rate * static_cast<double>(every) * l.time_step_s)) << " every " << every
+      << " steps (the fall time through the inlet)\n";
     double mass_sum = 0.0;
     for (const auto& [d, p] : l.size_classes) mass_sum += p * d * d * d;
     for (std::size_t c = 0; c < l.size_classes.size(); ++c)
@@ -184,9 +215,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     }
     s << "\n"
       << "region          inlet block " << box_words(in.region) << " units box\n"
-      << "fix             pour all insert/pour seed " << prime_seed(l.seed, 3)
-      << " distributiontemplate sizes nparticles " << l.particles
-      << " volumefraction_region " << n(in.batch_volume_fraction)
+      << "fix             pour all insert/rate/region seed " << prime_seed(l.seed, 3)
+      << " distributiontemplate sizes nparticles " << l.particles << " particlerate "
+      << n(std::round(rate)) << " insert_every " << every
       << " overlapcheck yes all_in yes vel constant 0. 0. " << n(-in.speed_m_s)
       << " region inlet\n";
     phase_loop(s, "pour",

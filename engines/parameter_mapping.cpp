@@ -142,11 +142,13 @@ nlohmann::json LammpsMapping::to_json() const {
           {"approximations", approximations}};
 }
 
-std::string LiggghtsMapping::pair_style_words() const {
+std::string LiggghtsMapping::model_words() const {
   std::string s = "model hertz tangential history";
   if (rolling_model != "off") s += " rolling_friction " + rolling_model;
-  return s + " limitForce on";
+  return s;
 }
+
+std::string LiggghtsMapping::pair_style_words() const { return model_words() + " limitForce on"; }
 
 nlohmann::json LiggghtsMapping::to_json() const {
   return {{"engine", "liggghts"},
@@ -347,6 +349,9 @@ MappingResult<LiggghtsMapping> map_to_liggghts(const dem::GranularMaterial& m,
       map.approximations.push_back(
           "cdt lever mapped for equal spheres (2 mu_r); unequal grains differ");
   }
+  map.approximations.push_back(
+      "limitForce (no attractive normal force at the end of an impact) is set for particle pairs "
+      "only: fix wall/gran does not take it, so particle-wall impacts may end slightly attractive");
   result.mapping = std::move(map);
   return result;
 }

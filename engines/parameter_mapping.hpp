@@ -134,7 +134,11 @@ struct LiggghtsMapping {
   std::vector<MappedParameter> parameters;
   std::vector<std::string> approximations;
 
-  // "model hertz tangential history [rolling_friction X] limitForce on"
+  // "model hertz tangential history [rolling_friction X]": the words pair_style
+  // and fix wall/gran share.
+  std::string model_words() const;
+  // model_words() + " limitForce on" (a pair_style setting; fix wall/gran
+  // refuses it, so wall contacts keep LIGGGHTS's default there).
   std::string pair_style_words() const;
   nlohmann::json to_json() const;
 };
