@@ -73,7 +73,9 @@ nlohmann::json ApparatusLayout::to_json() const {
   j["periodic"] = periodic;
   j["planes"] = nlohmann::json::array();
   for (const auto& p : planes)
-    j["planes"].push_back({{"name", p.name}, {"axis", p.axis}, {"position_m", p.position_m},
+    j["planes"].push_back({{"name", p.name},
+                           {"axis", p.axis},
+                           {"position_m", p.position_m},
                            {"normal_sign", p.normal_sign}});
   auto blocks_json = [](const std::vector<SolidBlock>& bs) {
     nlohmann::json a = nlohmann::json::array();
@@ -129,7 +131,8 @@ LayoutResult layout_poured_slab_pile(const dem::PouredSlabPileOptions& o) {
   l.density_kg_m3 = o.density_kg_m3;
   l.time_step_s = o.time_step_s;
   l.seed = o.seed;
-  // make_poured_slab_pile's callers: at rest below 2 mm/s (the peers' threshold), checked every 5 ms.
+  // make_poured_slab_pile's callers: at rest below 2 mm/s (the peers' threshold), checked every 5
+  // ms.
   l.protocol.rest_speed_m_s = 2e-3;
   l.protocol.check_interval_s = 5e-3;
   l.protocol.max_flow_s = 10.0;
@@ -173,7 +176,8 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
   const double t = o.thickness_m > 0.0 ? o.thickness_m : o.thickness_diameters * d;
   const bool periodic = o.boundary == "periodic";
   if (t < (periodic ? 2.7 : 1.1) * d_max)
-    throw std::invalid_argument("rectangular_container: the thickness is too thin for the particles");
+    throw std::invalid_argument(
+        "rectangular_container: the thickness is too thin for the particles");
   const double half = 0.5 * o.width_m;
   const double inlet_half = 0.5 * (o.inlet_width_m > 0.0 ? o.inlet_width_m : 8.0 * d);
   const double inlet_z = o.inlet_height_m > 0.0 ? o.inlet_height_m : 0.8 * o.height_m;
@@ -217,7 +221,8 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                               const dem::RunProtocol& protocol) {
   dem::SandglassOptions o = options;
   o.validate();
-  if (!material.sizes) throw std::invalid_argument("sandglass: the material has no size distribution");
+  if (!material.sizes)
+    throw std::invalid_argument("sandglass: the material has no size distribution");
   if (!o.reduction.slice)
     return {std::nullopt,
             "sandglass: the full (3D) sandglass is not written as deck primitives yet (cylinder "
@@ -269,7 +274,8 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   const auto nx = static_cast<std::size_t>(std::llround((x1 - x0) / a));
   f.sites_per_layer = nx * static_cast<std::size_t>(ny);
   f.count = count_for_mass(fill_mass, material.particle.density_kg_m3, *sizes);
-  if (f.sites_per_layer == 0) throw std::invalid_argument("sandglass: the upper chamber is too narrow for the fill lattice");
+  if (f.sites_per_layer == 0)
+    throw std::invalid_argument("sandglass: the upper chamber is too narrow for the fill lattice");
   f.layers = (f.count + f.sites_per_layer - 1) / f.sites_per_layer;
   if (z0 + static_cast<double>(f.layers) * a > top - d_max) {
     std::ostringstream s;
@@ -283,7 +289,7 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   f.jitter_m = 0.4 * (a - d_max);
   l.lattice = f;
   l.particles = f.count;
-  l.size_classes = {{d, 1.0}};
+  l.size_classes = size_classes(*sizes);
   l.density_kg_m3 = material.particle.density_kg_m3;
   l.time_step_s = demcal_time_step_s(material, o.reduction, *sizes, protocol);
   l.seed = protocol.seed;
@@ -294,12 +300,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   l.orifice_plane_z_m = zo;
   l.upper_chamber = {{-ru, 0.0, zo}, {ru, depth, top + margin}};
   l.form_pile = o.form_pile;
-  l.measurement = {{"kind", "sandglass_slice"},
-                   {"apparatus", l.apparatus},
-                   {"orifice_plane_z_m", zo},
-                   {"orifice_width_m", o.orifice_diameter_m},
-                   {"form_pile", o.form_pile},
-                   {"stall_time_s", protocol.stall_time_s},
+  l.measurement = {{"kind", "sandglass_slice"},       {"apparatus", l.apparatus},
+                   {"orifice_plane_z_m", zo},         {"orifice_width_m", o.orifice_diameter_m},
+                   {"form_pile", o.form_pile},        {"stall_time_s", protocol.stall_time_s},
                    {"density_kg_m3", l.density_kg_m3}};
   return {std::move(l), ""};
 }

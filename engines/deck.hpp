@@ -17,7 +17,7 @@ namespace demcal::engines {
 
 struct DeckOptions {
   std::string script_name = "in.demcal";
-  std::string final_dump_name = "final.dump";      // particles at the end (custom dump)
+  std::string final_dump_name = "final.dump";        // particles at the end (custom dump)
   std::string mass_series_name = "mass_series.txt";  // discharge runs only
   // Verlet skin as a fraction of the largest diameter (demcal's default).
   double skin_fraction_of_diameter = 0.3;

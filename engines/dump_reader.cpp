@@ -35,7 +35,8 @@ class Lines {
     throw DumpFormatError(name_ + ":" + std::to_string(number_) + ": " + what);
   }
   [[noreturn]] void fail_at_end(const std::string& what) const {
-    throw DumpFormatError(name_ + ":" + std::to_string(number_) + ": unexpected end of file, " + what);
+    throw DumpFormatError(name_ + ":" + std::to_string(number_) + ": unexpected end of file, " +
+                          what);
   }
   int number() const { return number_; }
 
@@ -94,7 +95,8 @@ ParticleDump parse_custom_dump(const std::string& text, const std::string& name)
     expect_item("NUMBER OF ATOMS");
     if (!lines.next(line)) lines.fail_at_end("expected the number of atoms");
     const auto count = to_int(words(line).size() == 1 ? words(line)[0] : "");
-    if (!count || *count < 0) lines.fail("expected a non-negative atom count, found \"" + line + "\"");
+    if (!count || *count < 0)
+      lines.fail("expected a non-negative atom count, found \"" + line + "\"");
     expect_item("BOX BOUNDS");
     double* lo[3] = {&d.box_lower_m.x, &d.box_lower_m.y, &d.box_lower_m.z};
     double* hi[3] = {&d.box_upper_m.x, &d.box_upper_m.y, &d.box_upper_m.z};
@@ -102,7 +104,8 @@ ParticleDump parse_custom_dump(const std::string& text, const std::string& name)
       if (!lines.next(line)) lines.fail_at_end("expected box bounds");
       const auto w = words(line);
       // Orthogonal boxes have 2 numbers, triclinic ones a third (the tilt): ignored.
-      if (w.size() != 2 && w.size() != 3) lines.fail("expected \"lo hi\" box bounds, found \"" + line + "\"");
+      if (w.size() != 2 && w.size() != 3)
+        lines.fail("expected \"lo hi\" box bounds, found \"" + line + "\"");
       const auto l = to_double(w[0]), h = to_double(w[1]);
       if (!l || !h || !(*l <= *h)) lines.fail("invalid box bounds \"" + line + "\"");
       *lo[a] = *l;
@@ -130,7 +133,9 @@ ParticleDump parse_custom_dump(const std::string& text, const std::string& name)
                    std::to_string(w.size()));
       auto number = [&](const char* c) {
         const auto v = to_double(w[col.at(c)]);
-        if (!v) lines.fail(std::string("column ") + c + ": \"" + w[col.at(c)] + "\" is not a finite number");
+        if (!v)
+          lines.fail(std::string("column ") + c + ": \"" + w[col.at(c)] +
+                     "\" is not a finite number");
         return *v;
       };
       const auto id = to_int(w[col.at("id")]);
@@ -152,7 +157,9 @@ ParticleDump parse_custom_dump(const std::string& text, const std::string& name)
     }
     last = std::move(d);
   }
-  if (!last) throw DumpFormatError(name + ":" + std::to_string(lines.number()) + ": no snapshot in the file");
+  if (!last)
+    throw DumpFormatError(name + ":" + std::to_string(lines.number()) +
+                          ": no snapshot in the file");
   return std::move(*last);
 }
 
@@ -173,8 +180,10 @@ MassSeries parse_mass_series(const std::string& text, const std::string& name) {
     const auto w = words(line);
     if (w.empty() || w[0][0] == '#') continue;
     if (w.size() != 3)
-      lines.fail("expected 3 columns (t_since_opening_s discharged_mass_kg mass_above_orifice_kg), found " +
-                 std::to_string(w.size()));
+      lines.fail(
+          "expected 3 columns (t_since_opening_s discharged_mass_kg mass_above_orifice_kg), "
+          "found " +
+          std::to_string(w.size()));
     double v[3];
     for (int i = 0; i < 3; ++i) {
       const auto x = to_double(w[i]);
@@ -185,8 +194,7 @@ MassSeries parse_mass_series(const std::string& text, const std::string& name) {
       lines.fail("time " + w[0] + " does not increase (previous row " +
                  std::to_string(m.time_s.back()) + ")");
     // A rounding of the subtraction fill - above may dip a hair below 0.
-    if (v[1] < -1e-12 * std::max(1.0, std::abs(v[2])) || v[2] < 0.0)
-      lines.fail("negative mass");
+    if (v[1] < -1e-12 * std::max(1.0, std::abs(v[2])) || v[2] < 0.0) lines.fail("negative mass");
     m.time_s.push_back(v[0]);
     m.discharged_kg.push_back(std::max(0.0, v[1]));
     m.above_orifice_kg.push_back(v[2]);

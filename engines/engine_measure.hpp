@@ -18,10 +18,12 @@ namespace demcal::engines {
 // is needed for a discharge plan and ignored otherwise. A pile that cannot be
 // measured gives angle_of_repose_deg = null and the reason in details, as the
 // demcal apparatus do.
-dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const ParticleDump& final_state,
+dem::ApparatusResult measure_engine_output(const nlohmann::json& plan,
+                                           const ParticleDump& final_state,
                                            const MassSeries* series);
 
 // Reads the deck's outputs from the run directory and measures them.
-dem::ApparatusResult measure_engine_run(const Deck& deck, const std::filesystem::path& run_directory);
+dem::ApparatusResult measure_engine_run(const Deck& deck,
+                                        const std::filesystem::path& run_directory);
 
 }  // namespace demcal::engines

@@ -28,7 +28,8 @@ struct EngineRunResult {
 EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
                            const std::filesystem::path& directory);
 
-// The first line of an engine log that names it ("LAMMPS (...)" or "LIGGGHTS (...)"); empty if none.
+// The first line of an engine log that names it ("LAMMPS (...)" or "LIGGGHTS (...)"); empty if
+// none.
 std::string engine_version_from_log(const std::filesystem::path& log);
 
 // Whether `executable` is found on PATH (or is a path to an executable file).

@@ -27,8 +27,8 @@ std::uint64_t prime_seed(std::uint64_t seed, std::uint64_t salt) {
 }
 
 std::string box_words(const BoxRegion& b) {
-  return n(b.lower_m.x) + " " + n(b.upper_m.x) + " " + n(b.lower_m.y) + " " + n(b.upper_m.y) +
-         " " + n(b.lower_m.z) + " " + n(b.upper_m.z);
+  return n(b.lower_m.x) + " " + n(b.upper_m.x) + " " + n(b.lower_m.y) + " " + n(b.upper_m.y) + " " +
+         n(b.lower_m.z) + " " + n(b.upper_m.z);
 }
 
 long steps_for(double seconds, double dt) {
@@ -38,7 +38,8 @@ long steps_for(double seconds, double dt) {
 void phase_loop(std::ostringstream& s, const std::string& phase, const std::string& condition,
                 double max_s, const ApparatusLayout& l) {
   const long chunk = steps_for(l.protocol.check_interval_s, l.time_step_s);
-  const long chunks = std::max(1L, static_cast<long>(std::ceil(max_s / l.protocol.check_interval_s)));
+  const long chunks =
+      std::max(1L, static_cast<long>(std::ceil(max_s / l.protocol.check_interval_s)));
   s << "\n# --- " << phase << ": until " << condition << ", checked every "
     << n(l.protocol.check_interval_s) << " s, at most " << n(max_s) << " s\n"
     << "variable        " << phase << "_done equal " << condition << "\n"
@@ -64,7 +65,8 @@ std::string block_stl(const SolidBlock& b) {
   std::ostringstream s;
   s << "solid " << b.name << "\n";
   auto tri = [&](P a, P c, P d, P nrm) {
-    s << "  facet normal " << n(nrm.x) << " " << n(nrm.y) << " " << n(nrm.z) << "\n    outer loop\n";
+    s << "  facet normal " << n(nrm.x) << " " << n(nrm.y) << " " << n(nrm.z)
+      << "\n    outer loop\n";
     for (const P& p : {a, c, d})
       s << "      vertex " << n(p.x) << " " << n(p.y) << " " << n(p.z) << "\n";
     s << "    endloop\n  endfacet\n";
@@ -73,10 +75,10 @@ std::string block_stl(const SolidBlock& b) {
     tri(a, c, d, nrm);
     tri(a, d, e, nrm);
   };
-  quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, {0, 0, 1});    // top
-  quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {0, 0, -1});   // bottom
-  quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}, {-1, 0, 0});   // -x
-  quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, {1, 0, 0});    // +x
+  quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, {0, 0, 1});   // top
+  quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {0, 0, -1});  // bottom
+  quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}, {-1, 0, 0});  // -x
+  quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, {1, 0, 0});   // +x
   s << "endsolid " << b.name << "\n";
   return s.str();
 }
@@ -99,7 +101,8 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     if (meshes && l.periodic[a] && extent < kMinPeriodicMeshExtentDiameters * d_max)
       return {std::nullopt,
               "LIGGGHTS 3.8 cannot run mesh walls in a periodic slab thinner than " +
-                  n(kMinPeriodicMeshExtentDiameters) + " diameters (this one: " + n(extent / d_max) +
+                  n(kMinPeriodicMeshExtentDiameters) +
+                  " diameters (this one: " + n(extent / d_max) +
                   "; its region neighbour list fails an assertion); thicken the slice "
                   "(slice_thickness_diameters)"};
   }
@@ -138,7 +141,8 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     s << "fix             m5 all property/global coefficientRollingFriction peratomtypepair 2 "
       << pair2(m.particle_particle.rolling_friction, m.particle_wall.rolling_friction) << "\n";
   if (m.rolling_model == "epsd")
-    s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair 2 "
+    s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair "
+         "2 "
       << pair2(m.particle_particle.rolling_damping_ratio, m.particle_wall.rolling_damping_ratio)
       << "\n";
   s << "pair_style      gran " << m.pair_style_words() << "\n"
@@ -203,9 +207,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     double mass_sum = 0.0;
     for (const auto& [d, p] : l.size_classes) mass_sum += p * d * d * d;
     for (std::size_t c = 0; c < l.size_classes.size(); ++c)
-      s << "fix             grain" << c << " all particletemplate/sphere " << prime_seed(l.seed, 10 + c)
-        << " atom_type 1 density constant " << n(l.density_kg_m3) << " radius constant "
-        << n(0.5 * l.size_classes[c].first) << "\n";
+      s << "fix             grain" << c << " all particletemplate/sphere "
+        << prime_seed(l.seed, 10 + c) << " atom_type 1 density constant " << n(l.density_kg_m3)
+        << " radius constant " << n(0.5 * l.size_classes[c].first) << "\n";
     // LIGGGHTS's distribution fractions are by mass; demcal's classes by number.
     s << "fix             sizes all particledistribution/discrete " << prime_seed(l.seed, 2) << " "
       << l.size_classes.size();
@@ -227,8 +231,8 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   } else if (l.lattice) {
     const auto& f = *l.lattice;
     const std::size_t surplus = f.layers * f.sites_per_layer - f.count;
-    s << "\n# insertion: jittered cubic lattice, " << f.layers << " layers of "
-      << f.sites_per_layer << " sites, the top layer thinned to " << f.count << " particles\n"
+    s << "\n# insertion: jittered cubic lattice, " << f.layers << " layers of " << f.sites_per_layer
+      << " sites, the top layer thinned to " << f.count << " particles\n"
       << "lattice         sc " << n(f.spacing_m) << " origin 0.5 0.5 0.5\n"
       << "region          fill block " << box_words(f.region) << " units box\n"
       << "create_atoms    1 region fill\n";
@@ -251,8 +255,8 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   if (l.discharge) {
     const long sample = steps_for(l.protocol.sample_interval_s, l.time_step_s);
     const long stall = steps_for(l.protocol.stall_time_s, l.time_step_s);
-    const long chunks = std::max(1L, static_cast<long>(std::ceil(l.protocol.max_flow_s /
-                                                                 l.protocol.stall_time_s)));
+    const long chunks =
+        std::max(1L, static_cast<long>(std::ceil(l.protocol.max_flow_s / l.protocol.stall_time_s)));
     s << "\n# --- open the orifice: the shut plate goes, the plate with the opening comes\n"
       << "unfix           wall_meshes\n";
     for (const auto& b : l.closing_blocks) s << "unfix           mesh_" << b.name << "\n";
@@ -279,7 +283,8 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
       << "label           flow_loop\n"
       << "variable        m_before equal ${m_above}\n"
       << "run             " << stall << " post no\n"
-      << "if              \"${m_above} <= 0 || ${m_above} == ${m_before}\" then \"jump SELF flow_end\"\n"
+      << "if              \"${m_above} <= 0 || ${m_above} == ${m_before}\" then \"jump SELF "
+         "flow_end\"\n"
       << "next            flow_chunk\n"
       << "jump            SELF flow_loop\n"
       << "label           flow_end\n"

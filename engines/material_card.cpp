@@ -62,15 +62,16 @@ std::string interval_through_mapping(const MaterialCardInput& in, const Calibrat
     const auto& pa = (*a)[i];
     const auto& pb = (*b)[i];
     if (pa.value == p0.value && pb.value == p0.value) continue;
-    s += "\n#       -> " + p0.pair + " " + p0.engine_name + " " + n(pa.value) + " .. " + n(pb.value);
+    s +=
+        "\n#       -> " + p0.pair + " " + p0.engine_name + " " + n(pa.value) + " .. " + n(pb.value);
   }
   return s;
 }
 
 // `target` names the engine the card is for; the warning is written unless the
 // calibration ran on it (calibrated_on_target).
-std::string header(const MaterialCardInput& in, const std::string& target, bool calibrated_on_target,
-                   const std::string& target_words,
+std::string header(const MaterialCardInput& in, const std::string& target,
+                   bool calibrated_on_target, const std::string& target_words,
                    const std::vector<std::string>& approximations,
                    const std::function<std::string(const CalibratedParameter&)>& mapped_interval,
                    const std::string& comment = "# ") {
@@ -83,8 +84,8 @@ std::string header(const MaterialCardInput& in, const std::string& target, bool 
     << comment << "contact model calibrated: "
     << (p.contact_model.empty() ? describe_contact(in.material) : p.contact_model) << "\n";
   if (!calibrated_on_target)
-    s << comment << "WARNING: calibrated on " << engine_name(p.calibrated_engine) << ", written for "
-      << target
+    s << comment << "WARNING: calibrated on " << engine_name(p.calibrated_engine)
+      << ", written for " << target
       << ": the values are mapped term by term (engines/parameter_mapping.hpp), not calibrated in "
       << target << "; check one calibration observable in " << target
       << " before relying on them\n";
@@ -167,13 +168,13 @@ CardResult liggghts_card(const MaterialCardInput& in, const MappingOptions& opt)
     s << "fix             m5 all property/global coefficientRollingFriction peratomtypepair 2 "
       << pair2(pp.rolling_friction, pw.rolling_friction) << "\n";
   if (m.rolling_model == "epsd")
-    s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair 2 "
+    s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair "
+         "2 "
       << pair2(pp.rolling_damping_ratio, pw.rolling_damping_ratio) << "\n";
   s << "pair_style      gran " << m.pair_style_words() << "\n"
     << "pair_coeff      * *\n"
     << "# walls: fix ID all wall/gran " << m.model_words() << " primitive type 2 <args>\n"
-    << "#     or fix ID all wall/gran " << m.model_words()
-    << " mesh n_meshes <n> meshes <IDs>\n";
+    << "#     or fix ID all wall/gran " << m.model_words() << " mesh n_meshes <n> meshes <IDs>\n";
   return {s.str(), ""};
 }
 
@@ -183,9 +184,10 @@ CardResult liggghts_card(const MaterialCardInput& in, const MappingOptions& opt)
 CardResult edem_card(const MaterialCardInput& in, const MappingOptions& opt) {
   const auto& mat = in.material;
   if (mat.contact.rolling == "epsd")
-    return {std::nullopt,
-            "EDEM's standard rolling friction is the constant directional torque (type A); demcal's "
-            "\"epsd\" (elastic-plastic spring-dashpot) has no standard EDEM counterpart"};
+    return {
+        std::nullopt,
+        "EDEM's standard rolling friction is the constant directional torque (type A); demcal's "
+        "\"epsd\" (elastic-plastic spring-dashpot) has no standard EDEM counterpart"};
   // LIGGGHTS's mapping gives the restitution EDEM needs (same formula), but
   // its cdt lever is R*: EDEM's is the distance to the contact, as demcal's.
   const auto r = map_to_liggghts(mat, in.reduction, opt);
@@ -196,7 +198,10 @@ CardResult edem_card(const MaterialCardInput& in, const MappingOptions& opt) {
     particle.shear_modulus_pa = in.reduction.shear_modulus_pa;
     particle.youngs_modulus_pa = 0.0;
   }
-  std::vector<std::string> approx = m.approximations;
+  // LIGGGHTS's own approximations (its cdt, its walls) are not EDEM's.
+  std::vector<std::string> approx = {
+      "restitution: EDEM derives its damping from e by the linear-spring formula, as LIGGGHTS; "
+      "the value below gives demcal's damping"};
   if (mat.contact.rolling == "cdt" && !mat.contact.cdt_own_angular_velocity)
     approx.push_back(
         "EDEM's type A opposes each grain's own angular velocity; demcal's cdt (as calibrated) the "
@@ -230,12 +235,14 @@ CardResult edem_card(const MaterialCardInput& in, const MappingOptions& opt) {
   row("geometry", "Shear modulus", mat.wall.shear_modulus(), "", "Pa");
   row("geometry", "Density", mat.wall.density_kg_m3, "", "kg/m3");
   // Restitution: the interval ends are not carried through the damping map here.
-  c << "particle-particle,Coefficient of restitution," << n(m.particle_particle.restitution) << ",,,-\n";
+  c << "particle-particle,Coefficient of restitution," << n(m.particle_particle.restitution)
+    << ",,,-\n";
   row("particle-particle", "Coefficient of static friction", mat.particle_particle.sliding_friction,
       "particle_particle.sliding_friction", "-");
-  row("particle-particle", "Coefficient of rolling friction", mat.particle_particle.rolling_friction,
-      "particle_particle.rolling_friction", "-");
-  c << "particle-geometry,Coefficient of restitution," << n(m.particle_wall.restitution) << ",,,-\n";
+  row("particle-particle", "Coefficient of rolling friction",
+      mat.particle_particle.rolling_friction, "particle_particle.rolling_friction", "-");
+  c << "particle-geometry,Coefficient of restitution," << n(m.particle_wall.restitution)
+    << ",,,-\n";
   row("particle-geometry", "Coefficient of static friction", mat.particle_wall.sliding_friction,
       "particle_wall.sliding_friction", "-");
   row("particle-geometry", "Coefficient of rolling friction", mat.particle_wall.rolling_friction,
@@ -249,18 +256,18 @@ CardResult json_card(const MaterialCardInput& in, const MappingOptions& opt) {
   j["format"] = "demcal-material-card";
   j["format_version"] = 1;
   j["study"] = in.provenance.study;
-  j["calibrated_on"] = {{"engine", engine_name(in.provenance.calibrated_engine)},
-                        {"version", in.provenance.calibrated_engine_version},
-                        {"contact_model", in.provenance.contact_model.empty()
-                                              ? describe_contact(mat)
-                                              : in.provenance.contact_model}};
+  j["calibrated_on"] = {
+      {"engine", engine_name(in.provenance.calibrated_engine)},
+      {"version", in.provenance.calibrated_engine_version},
+      {"contact_model",
+       in.provenance.contact_model.empty() ? describe_contact(mat) : in.provenance.contact_model}};
   j["reductions"] = {{"coarse_graining_factor", in.reduction.coarse_graining_factor},
                      {"shear_modulus_pa", in.reduction.shear_modulus_pa}};
-  j["warning"] = in.provenance.calibrated_engine == Engine::kDemcal
-                     ? nlohmann::json()
-                     : nlohmann::json("calibrated on " +
-                                      engine_name(in.provenance.calibrated_engine) +
-                                      "; the demcal parameters below are that engine's, mapped");
+  j["warning"] =
+      in.provenance.calibrated_engine == Engine::kDemcal
+          ? nlohmann::json()
+          : nlohmann::json("calibrated on " + engine_name(in.provenance.calibrated_engine) +
+                           "; the demcal parameters below are that engine's, mapped");
   auto inter = [](const dem::InteractionParameters& p) {
     return nlohmann::json{{"restitution", p.restitution},
                           {"sliding_friction", p.sliding_friction},
@@ -288,7 +295,9 @@ CardResult json_card(const MaterialCardInput& in, const MappingOptions& opt) {
                  {"particle_wall", inter(mat.particle_wall)}};
   j["calibrated"] = nlohmann::json::array();
   for (const auto& c : in.calibrated) {
-    auto num_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    auto num_or_null = [](double v) {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+    };
     j["calibrated"].push_back({{"name", c.name},
                                {"value", num_or_null(c.value)},
                                {"lower_95", num_or_null(c.lower_95)},
@@ -308,8 +317,9 @@ CardFormat card_format_from_name(const std::string& name) {
   if (name == "liggghts") return CardFormat::kLiggghts;
   if (name == "edem-csv") return CardFormat::kEdemCsv;
   if (name == "json") return CardFormat::kJson;
-  throw std::invalid_argument("unknown card format \"" + name +
-                              "\"; expected one of \"lammps\", \"liggghts\", \"edem-csv\", \"json\"");
+  throw std::invalid_argument(
+      "unknown card format \"" + name +
+      "\"; expected one of \"lammps\", \"liggghts\", \"edem-csv\", \"json\"");
 }
 
 std::string card_format_name(CardFormat f) {
@@ -332,7 +342,8 @@ void set_material_parameter(dem::GranularMaterial& m, const std::string& name, d
     throw std::invalid_argument(
         "unknown material parameter \"" + name +
         "\"; expected particle_particle.<f> or particle_wall.<f> (restitution, sliding_friction, "
-        "rolling_friction, rolling_stiffness_factor, rolling_damping_ratio, surface_energy_j_m2) or "
+        "rolling_friction, rolling_stiffness_factor, rolling_damping_ratio, surface_energy_j_m2) "
+        "or "
         "particle.<f> (density_kg_m3, youngs_modulus_pa, shear_modulus_pa, poisson_ratio)");
   *f = value;
   // A modulus given replaces the other, as a config gives only one.

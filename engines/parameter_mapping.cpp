@@ -78,9 +78,14 @@ Engine engine_from_name(const std::string& name) {
 }
 
 template <class T>
-const T& MappingResult<T>::value() const {
+const T& MappingResult<T>::value() const& {
   if (!mapping) throw std::runtime_error(refusal);
   return *mapping;
+}
+template <class T>
+T MappingResult<T>::value() && {
+  if (!mapping) throw std::runtime_error(refusal);
+  return std::move(*mapping);
 }
 template struct MappingResult<LammpsMapping>;
 template struct MappingResult<LiggghtsMapping>;
@@ -125,7 +130,8 @@ namespace {
 nlohmann::json parameters_json(const std::vector<MappedParameter>& ps) {
   nlohmann::json a = nlohmann::json::array();
   for (const auto& p : ps)
-    a.push_back({{"pair", p.pair}, {"engine_name", p.engine_name}, {"value", p.value}, {"rule", p.rule}});
+    a.push_back(
+        {{"pair", p.pair}, {"engine_name", p.engine_name}, {"value", p.value}, {"rule", p.rule}});
   return a;
 }
 
@@ -168,7 +174,8 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     return result;
   }
   if (m.contact.tangential != "mindlin" && m.contact.tangential != "none") {
-    result.refusal = "LAMMPS: no mapping for demcal's tangential part \"" + m.contact.tangential + "\"";
+    result.refusal =
+        "LAMMPS: no mapping for demcal's tangential part \"" + m.contact.tangential + "\"";
     return result;
   }
   if (m.contact.rolling == "cdt" && m.contact.cdt_own_angular_velocity) {
@@ -207,9 +214,9 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     l.tangential_damping_factor = 2.0 * std::sqrt(c.shear_modulus_eff_pa / c.youngs_modulus_eff_pa);
     l.sliding_friction = m.contact.tangential == "none" ? 0.0 : c.sliding_friction;
     map.parameters.push_back({pair, "hertz k_n", l.normal_stiffness_pa, "4/3 E*"});
-    map.parameters.push_back({pair, "tsuji input", l.tsuji_input,
-                              "Tsuji polynomial^-1(sqrt(5) beta), beta = demcal damping for e = " +
-                                  num(p.restitution)});
+    map.parameters.push_back(
+        {pair, "tsuji input", l.tsuji_input,
+         "Tsuji polynomial^-1(sqrt(5) beta), beta = demcal damping for e = " + num(p.restitution)});
     map.parameters.push_back({pair, "mindlin k_t", l.tangential_stiffness_pa, "8 G*"});
     map.parameters.push_back(
         {pair, "mindlin x_gamma_t", l.tangential_damping_factor, "2 sqrt(G*/E*)"});
@@ -233,9 +240,10 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
           {pair, "sds mu_r", l.rolling_friction,
            cdt ? "demcal cdt mu_r x l / R_eff (substitute: same limiting torque)"
                : "demcal epsd mu_r (same lever R*)"});
-      map.parameters.push_back({pair, "sds k_roll", l.rolling_stiffness_n_m,
-                                "f S_n(delta_ref) mu_r^2, delta_ref = " +
-                                    num(options.reference_overlap_fraction) + " R*, f = " + num(f)});
+      map.parameters.push_back(
+          {pair, "sds k_roll", l.rolling_stiffness_n_m,
+           "f S_n(delta_ref) mu_r^2, delta_ref = " + num(options.reference_overlap_fraction) +
+               " R*, f = " + num(f)});
       map.parameters.push_back({pair, "sds gamma_roll", l.rolling_damping_n_s_m,
                                 "zeta 2 sqrt(k_roll R*^2 I_r) / R*^2, zeta = " + num(zeta)});
     }
@@ -257,7 +265,8 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
   if (m.contact.rolling == "cdt")
     map.approximations.push_back(
         "demcal cdt (constant torque) run as LAMMPS sds with the same limiting torque (R_eff from "
-        "the mean diameter " + num(r.diameter_m) + " m; unequal grains differ)");
+        "the mean diameter " +
+        num(r.diameter_m) + " m; unequal grains differ)");
   if (m.sizes->min_diameter_m() != m.sizes->max_diameter_m())
     map.approximations.push_back(
         "rolling stiffness, damping and cdt lever computed for the mean diameter; LAMMPS applies "
@@ -293,36 +302,41 @@ MappingResult<LiggghtsMapping> map_to_liggghts(const dem::GranularMaterial& m,
   map.wall_youngs_modulus_pa = r.wall.youngs_modulus();
   map.wall_poisson_ratio = r.wall.poisson_ratio;
   map.density_kg_m3 = r.particle.density_kg_m3;
-  map.parameters.push_back({"particle", "youngsModulus 1", map.particle_youngs_modulus_pa, "demcal E (after the modulus reduction)"});
-  map.parameters.push_back({"particle", "poissonsRatio 1", map.particle_poisson_ratio, "demcal nu"});
-  map.parameters.push_back({"particle-wall", "youngsModulus 2", map.wall_youngs_modulus_pa, "demcal wall E"});
-  map.parameters.push_back({"particle-wall", "poissonsRatio 2", map.wall_poisson_ratio, "demcal wall nu"});
+  map.parameters.push_back({"particle", "youngsModulus 1", map.particle_youngs_modulus_pa,
+                            "demcal E (after the modulus reduction)"});
+  map.parameters.push_back(
+      {"particle", "poissonsRatio 1", map.particle_poisson_ratio, "demcal nu"});
+  map.parameters.push_back(
+      {"particle-wall", "youngsModulus 2", map.wall_youngs_modulus_pa, "demcal wall E"});
+  map.parameters.push_back(
+      {"particle-wall", "poissonsRatio 2", map.wall_poisson_ratio, "demcal wall nu"});
 
   auto one = [&](const dem::PairCoefficients& c, const dem::InteractionParameters& p,
                  const std::string& pair, bool wall) -> std::optional<LiggghtsPairCoefficients> {
     LiggghtsPairCoefficients l;
     const double beta = c.damping_beta;
     if (!(beta < 1.0)) {
-      result.refusal = "LIGGGHTS cannot damp the " + pair + " contact as demcal does (restitution " +
-                       num(p.restitution) + ", beta " + num(beta) +
-                       " >= 1 has no coefficientRestitution)";
+      result.refusal = "LIGGGHTS cannot damp the " + pair +
+                       " contact as demcal does (restitution " + num(p.restitution) + ", beta " +
+                       num(beta) + " >= 1 has no coefficientRestitution)";
       return std::nullopt;
     }
     l.restitution = std::exp(-std::numbers::pi * beta / std::sqrt(1.0 - beta * beta));
     l.sliding_friction = c.sliding_friction;
     // cdt: LIGGGHTS's lever is R* (R/2 between equal spheres), demcal's l ~ R.
-    l.rolling_friction = m.contact.rolling == "cdt" && !wall ? 2.0 * c.rolling_friction : c.rolling_friction;
+    l.rolling_friction =
+        m.contact.rolling == "cdt" && !wall ? 2.0 * c.rolling_friction : c.rolling_friction;
     l.rolling_damping_ratio = c.rolling_damping_ratio;
-    map.parameters.push_back({pair, "coefficientRestitution", l.restitution,
-                              "exp(-pi beta / sqrt(1 - beta^2)), beta = demcal damping for e = " +
-                                  num(p.restitution)});
+    map.parameters.push_back(
+        {pair, "coefficientRestitution", l.restitution,
+         "exp(-pi beta / sqrt(1 - beta^2)), beta = demcal damping for e = " + num(p.restitution)});
     map.parameters.push_back({pair, "coefficientFriction", l.sliding_friction, "demcal mu_s"});
     if (map.rolling_model != "off") {
-      map.parameters.push_back(
-          {pair, "coefficientRollingFriction", l.rolling_friction,
-           map.rolling_model == "cdt" ? (wall ? "demcal mu_r (lever R_i both)"
-                                              : "2 demcal mu_r (lever R* vs demcal's R_i)")
-                                      : "demcal mu_r (same lever R*)"});
+      map.parameters.push_back({pair, "coefficientRollingFriction", l.rolling_friction,
+                                map.rolling_model == "cdt"
+                                    ? (wall ? "demcal mu_r (lever R_i both)"
+                                            : "2 demcal mu_r (lever R* vs demcal's R_i)")
+                                    : "demcal mu_r (same lever R*)"});
       if (map.rolling_model == "epsd")
         map.parameters.push_back({pair, "coefficientRollingViscousDamping", l.rolling_damping_ratio,
                                   "demcal rolling_damping_ratio"});
@@ -340,7 +354,8 @@ MappingResult<LiggghtsMapping> map_to_liggghts(const dem::GranularMaterial& m,
     map.approximations.push_back(
         "LIGGGHTS epsd's rolling spring is 2.25 x secant Hertz stiffness = demcal's factor 1.5 on "
         "the tangent one; demcal's factor " +
-        num(m.particle_particle.rolling_stiffness_factor) + " is stiffer; the limiting torque is exact");
+        num(m.particle_particle.rolling_stiffness_factor) +
+        " is stiffer; the limiting torque is exact");
   if (map.rolling_model == "cdt") {
     map.approximations.push_back(
         "LIGGGHTS cdt has no cap at the torque that stops the relative rolling in one step "

@@ -91,9 +91,9 @@ struct MappedParameter {
 
 // The contact law of one pair of materials in LAMMPS's pair granular words.
 struct LammpsPairCoefficients {
-  double normal_stiffness_pa = 0.0;     // hertz k_n = 4/3 E*
-  double tsuji_input = 0.0;             // the number after "hertz k_n"
-  double tangential_stiffness_pa = 0.0; // mindlin k_t = 8 G*
+  double normal_stiffness_pa = 0.0;      // hertz k_n = 4/3 E*
+  double tsuji_input = 0.0;              // the number after "hertz k_n"
+  double tangential_stiffness_pa = 0.0;  // mindlin k_t = 8 G*
   double tangential_damping_factor = 0.0;
   double sliding_friction = 0.0;
   bool rolling = false;
@@ -149,7 +149,10 @@ struct MappingResult {
   std::optional<T> mapping;
   std::string refusal;  // "<engine> cannot ...: <what>" when mapping is empty
   bool ok() const { return mapping.has_value(); }
-  const T& value() const;  // throws std::runtime_error with the refusal
+  // Throws std::runtime_error with the refusal. A temporary result hands its
+  // mapping over (no reference into a dying object).
+  const T& value() const&;
+  T value() &&;
 };
 
 // The material with `reduction` applied as install_materials applies it (the

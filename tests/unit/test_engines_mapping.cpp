@@ -46,7 +46,8 @@ TEST(EnginesMapping, LammpsStiffnessesAreDemcalsEffectiveModuli) {
   const double g = 1e7 / 2.6, g_star = g / (2.0 * 1.7);
   EXPECT_NEAR(m.particle_particle.normal_stiffness_pa, 4.0 / 3.0 * e_star, 1e-6);
   EXPECT_NEAR(m.particle_particle.tangential_stiffness_pa, 8.0 * g_star, 1e-6);
-  EXPECT_NEAR(m.particle_particle.tangential_damping_factor, 2.0 * std::sqrt(g_star / e_star), 1e-12);
+  EXPECT_NEAR(m.particle_particle.tangential_damping_factor, 2.0 * std::sqrt(g_star / e_star),
+              1e-12);
   // epsd has LAMMPS's lever R*: mu_r carries over.
   EXPECT_DOUBLE_EQ(m.particle_particle.rolling_friction, 0.1);
   EXPECT_DOUBLE_EQ(m.particle_wall.rolling_friction, 0.3);
