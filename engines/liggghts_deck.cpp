@@ -98,7 +98,7 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     const double extent = a == 0   ? l.box.upper_m.x - l.box.lower_m.x
                           : a == 1 ? l.box.upper_m.y - l.box.lower_m.y
                                    : l.box.upper_m.z - l.box.lower_m.z;
-    if (meshes && l.periodic[a] && extent < kMinPeriodicMeshExtentDiameters * d_max)
+    if (meshes && l.periodic[a] && extent < (kMinPeriodicMeshExtentDiameters - 1e-6) * d_max)
       return {std::nullopt,
               "LIGGGHTS 3.8 cannot run mesh walls in a periodic slab thinner than " +
                   n(kMinPeriodicMeshExtentDiameters) +
