@@ -27,9 +27,8 @@ TEST(EngineLiggghts, SmallPouredPileHasASensibleAngleOfRepose) {
     GTEST_SKIP() << "LIGGGHTS not installed: \"" << exe
                  << "\" is not on PATH (apt-get install liggghts, or set DEMCAL_LIGGGHTS)";
   dem::PouredSlabPileOptions pile;
+  // As the LAMMPS test: the peers' pile at N = 1500 in its 120 mm box.
   pile.particles = 1500;
-  pile.box_length_m = 0.06;
-  pile.box_height_m = 0.04;
   const DeckResult deck = write_liggghts_deck(pile);
   ASSERT_TRUE(deck.ok()) << deck.refusal;
   const auto dir = testing::fresh_dir("engine", "liggghts-pile");
@@ -42,7 +41,7 @@ TEST(EngineLiggghts, SmallPouredPileHasASensibleAngleOfRepose) {
   const double aor = r.observables["angle_of_repose_deg"].get<double>();
   std::cout << "LIGGGHTS pile N = " << pile.particles << ": AoR " << aor << " deg, wall time "
             << run.wall_time_s << " s (" << run.engine_version << ")\n";
-  EXPECT_GT(aor, 14.0);
+  EXPECT_GT(aor, 10.0);
   EXPECT_LT(aor, 35.0);
   EXPECT_EQ(r.details["particles"].get<std::size_t>(), pile.particles);
 }
