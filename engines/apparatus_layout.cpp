@@ -90,12 +90,29 @@ nlohmann::json ApparatusLayout::to_json() const {
     j["pour"] = {{"region", box_json(pour->region)},
                  {"speed_m_s", pour->speed_m_s},
                  {"batch_volume_fraction", pour->batch_volume_fraction}};
+  j["shells"] = nlohmann::json::array();
+  for (const auto& sh : shells)
+    j["shells"].push_back({{"name", sh.name},
+                           {"radius_lower_m", sh.radius_lower_m},
+                           {"radius_upper_m", sh.radius_upper_m},
+                           {"z_lower_m", sh.z_lower_m},
+                           {"z_upper_m", sh.z_upper_m}});
+  auto discs_json = [](const std::vector<AxialDisc>& ds) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& dd : ds)
+      a.push_back({{"name", dd.name},
+                   {"radius_m", dd.radius_m},
+                   {"z_lower_m", dd.z_lower_m},
+                   {"z_upper_m", dd.z_upper_m}});
+    return a;
+  };
+  j["discs"] = discs_json(discs);
+  j["closing_discs"] = discs_json(closing_discs);
   if (lattice)
-    j["lattice_fill"] = {{"region", box_json(lattice->region)},
-                         {"spacing_m", lattice->spacing_m},
-                         {"jitter_m", lattice->jitter_m},
-                         {"layers", lattice->layers},
-                         {"sites_per_layer", lattice->sites_per_layer}};
+    j["lattice_fill"] = {
+        {"region", box_json(lattice->region)}, {"cylinder_radius_m", lattice->cylinder_radius_m},
+        {"spacing_m", lattice->spacing_m},     {"jitter_m", lattice->jitter_m},
+        {"layers", lattice->layers},           {"sites_per_layer", lattice->sites_per_layer}};
   j["particles"] = particles;
   j["size_classes"] = size_classes;
   j["density_kg_m3"] = density_kg_m3;
@@ -308,12 +325,91 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
 }
 
 LayoutResult layout_conical_pile(const dem::ConicalPileOptions& options,
-                                 const dem::GranularMaterial& /*material*/,
-                                 const dem::RunProtocol& /*protocol*/) {
-  options.validate();
-  return {std::nullopt,
-          "conical_pile: the funnel (a cone under a cylindrical feed section, with a shut outlet) "
-          "is not written as deck primitives yet"};
+                                 const dem::GranularMaterial& material,
+                                 const dem::RunProtocol& protocol) {
+  dem::ConicalPileOptions o = options;
+  o.validate();
+  if (!material.sizes)
+    throw std::invalid_argument("conical_pile: the material has no size distribution");
+  if (o.reduction.slice)
+    return {std::nullopt,
+            "conical_pile: the slice's V-shaped funnel (two slanted plates) is not written as deck "
+            "primitives yet; use the full pile"};
+  auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
+  if (sizes->min_diameter_m() != sizes->max_diameter_m())
+    return {std::nullopt,
+            "conical_pile: the lattice fill is written for one diameter; a polydisperse fill is "
+            "not written yet"};
+  // The numbers dem::ConicalPile derives, the same way.
+  const double d = dem::mean_diameter_m(*sizes);
+  const double d_max = sizes->max_diameter_m();
+  const double rt = 0.5 * o.funnel_top_diameter_m, ro = 0.5 * o.funnel_outlet_diameter_m;
+  const double rb = 0.5 * o.base_diameter_m;
+  if (o.funnel_outlet_diameter_m < 4.0 * d)
+    throw std::invalid_argument(
+        "conical_pile: funnel_outlet_diameter_m must be at least 4 particle diameters");
+  const double funnel_h = (rt - ro) / std::tan(o.funnel_half_angle_deg * kPi / 180.0);
+  const double base = std::max(0.3 * rb, 10.0 * d_max);
+  const double outlet = base + o.drop_height_m;
+  const double top = outlet + funnel_h + o.feed_height_m;
+  const double rc = std::max(2.0 * rb, rt + 4.0 * d_max);
+  const double margin = 3.0 * d_max;
+  const double plate = 2.0 * d_max;  // thickness of the base plate and of the shut outlet
+
+  ApparatusLayout l;
+  l.apparatus = "conical_pile";
+  l.variant = "full";
+  l.box = {{-rc - margin, -rc - margin, -margin}, {rc + margin, rc + margin, top + margin}};
+  l.planes = {{"catch_floor", 2, 0.0, 1}};
+  l.shells = {{"catch_tray", rc, rc, 0.0, base},
+              {"funnel", ro, rt, outlet, outlet + funnel_h},
+              {"feed", rt, rt, outlet + funnel_h, top}};
+  l.discs = {{"base_plate", rb, base - plate, base}};
+  l.closing_discs = {{"outlet_shut", rt, outlet - plate, outlet}};
+
+  LatticeFill f;
+  f.spacing_m = (1.0 + dem::FillOptions{}.lattice_gap) * d_max;
+  const double a = f.spacing_m;
+  const double z0 = std::ceil((outlet + funnel_h + d_max) / a) * a;
+  const double r_fill = rt - d_max - 0.5 * a;  // a site's grain stays off the feed wall
+  const double x0 = -std::ceil(r_fill / a) * a;
+  f.cylinder_radius_m = r_fill;
+  // Sites per layer: (i + 1/2) a within r_fill of the axis, as LAMMPS selects them.
+  for (long i = static_cast<long>(std::llround(x0 / a)); (i + 0.5) * a <= -x0; ++i)
+    for (long j = static_cast<long>(std::llround(x0 / a)); (j + 0.5) * a <= -x0; ++j)
+      if (std::hypot((i + 0.5) * a, (j + 0.5) * a) <= r_fill) ++f.sites_per_layer;
+  const double fill_mass = o.fill_mass_kg;
+  f.count = count_for_mass(fill_mass, material.particle.density_kg_m3, *sizes);
+  if (f.sites_per_layer == 0)
+    throw std::invalid_argument(
+        "conical_pile: the feed section is too narrow for the fill lattice");
+  f.layers = (f.count + f.sites_per_layer - 1) / f.sites_per_layer;
+  if (z0 + static_cast<double>(f.layers) * a > top - d_max) {
+    std::ostringstream s;
+    s << "conical_pile: the feed section cannot hold the fill: " << fill_mass << " kg needs "
+      << f.layers << " lattice layers of " << a
+      << " m; raise feed_height_m or funnel_top_diameter_m";
+    throw std::invalid_argument(s.str());
+  }
+  f.region = {{x0, x0, z0}, {-x0, -x0, z0 + static_cast<double>(f.layers) * a}};
+  f.jitter_m = 0.4 * (a - d_max);
+  l.lattice = f;
+  l.particles = f.count;
+  l.size_classes = size_classes(*sizes);
+  l.density_kg_m3 = material.particle.density_kg_m3;
+  l.time_step_s = demcal_time_step_s(material, o.reduction, *sizes, protocol);
+  l.seed = protocol.seed;
+  l.protocol = protocol;
+  l.material = material;
+  l.reduction = o.reduction;
+  l.release = true;
+  l.measurement = {{"kind", "conical_angle_of_repose"},
+                   {"apparatus", l.apparatus},
+                   {"base_height_m", base},
+                   {"outlet_height_m", outlet},
+                   {"base_radius_m", rb},
+                   {"density_kg_m3", l.density_kg_m3}};
+  return {std::move(l), ""};
 }
 
 }  // namespace demcal::engines

@@ -42,6 +42,24 @@ struct SolidBlock {
   dem::Vec3 upper_m;
 };
 
+// A surface of revolution about the vertical axis through x = y = 0: a cylinder
+// (equal radii) or a cone frustum, open at both ends; grains stay inside it.
+struct AxialShell {
+  std::string name;
+  double radius_lower_m = 0.0;
+  double radius_upper_m = 0.0;
+  double z_lower_m = 0.0;
+  double z_upper_m = 0.0;
+};
+
+// A solid disc (a short vertical cylinder) about the same axis; grains stay outside it.
+struct AxialDisc {
+  std::string name;
+  double radius_m = 0.0;
+  double z_lower_m = 0.0;
+  double z_upper_m = 0.0;
+};
+
 struct BoxRegion {
   dem::Vec3 lower_m;
   dem::Vec3 upper_m;
@@ -56,8 +74,11 @@ struct PourInlet {
 // A simple cubic lattice of `spacing_m`, sites (i + 1/2) spacing inside
 // `region` (the region is aligned to the lattice), jittered by up to
 // jitter_m in each direction; the top layer is thinned at random to `count`.
+// With cylinder_radius_m > 0 the sites are those of the box that also lie
+// within that radius of the vertical axis (a cylindrical fill).
 struct LatticeFill {
   BoxRegion region;
+  double cylinder_radius_m = 0.0;
   double spacing_m = 0.0;
   double jitter_m = 0.0;
   std::size_t sites_per_layer = 0;
@@ -74,6 +95,9 @@ struct ApparatusLayout {
   std::vector<SolidBlock> blocks;          // for the whole run
   std::vector<SolidBlock> closing_blocks;  // the shut orifice: removed at opening
   std::vector<SolidBlock> opened_blocks;   // the plate with its opening: added at opening
+  std::vector<AxialShell> shells;          // funnels and cylinders, for the whole run
+  std::vector<AxialDisc> discs;            // for the whole run
+  std::vector<AxialDisc> closing_discs;    // the shut outlet: removed at opening
   std::optional<PourInlet> pour;
   std::optional<LatticeFill> lattice;
   std::size_t particles = 0;
@@ -83,6 +107,9 @@ struct ApparatusLayout {
   double time_step_s = 0.0;
   std::uint64_t seed = 1;
   dem::RunProtocol protocol;
+  // Release (conical pile): after the fill has settled the closing discs go
+  // and the run continues until at rest (no m(t)).
+  bool release = false;
   // Discharge (sandglass): the plane the orifice sits in and the chamber above it;
   // discharged mass = fill - mass inside upper_chamber.
   bool discharge = false;
@@ -115,7 +142,8 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
 LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                               const dem::GranularMaterial& material,
                               const dem::RunProtocol& protocol);
-// Refused: a funnel (cone with a cylindrical feed) is not written as primitives yet.
+// The full (3D) pile: the funnel as a cone and a cylinder, the shut outlet and
+// the base plate as discs. The slice's V-shaped funnel (slanted plates) is refused.
 LayoutResult layout_conical_pile(const dem::ConicalPileOptions& options,
                                  const dem::GranularMaterial& material,
                                  const dem::RunProtocol& protocol);

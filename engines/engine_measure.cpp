@@ -3,6 +3,8 @@
 #include "dem/measure/angle_of_repose.hpp"
 #include "dem/measure/discharge.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -53,6 +55,40 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
     }
     r.details["median_plane_rule"] = band ? "particles within the median band" : "all particles";
     measure_slice_pile(pos, rad, plan.value("long_axis", 0), plan.value("base_height_m", 0.0), r);
+    return r;
+  }
+  if (kind == "conical_angle_of_repose") {
+    // As dem::ConicalPile: the grains on the plate, below the outlet.
+    const double base = plan.at("base_height_m").get<double>();
+    const double outlet = plan.at("outlet_height_m").get<double>();
+    const double rb = plan.at("base_radius_m").get<double>();
+    std::vector<dem::Vec3> pos;
+    std::vector<double> rad;
+    double reach = 0.0;
+    for (std::size_t i = 0; i < dump.size(); ++i) {
+      const dem::Vec3& x = dump.position_m[i];
+      const double radial = std::hypot(x.x, x.y);
+      if (x.z > base && x.z < outlet && radial <= rb) {
+        pos.push_back(x);
+        rad.push_back(dump.radius_m[i]);
+        reach = std::max(reach, radial + dump.radius_m[i]);
+      }
+    }
+    r.details["particles_on_plate"] = pos.size();
+    try {
+      dem::ConicalAoROptions a;
+      a.base_height_m = base;
+      a.axis_centre_m = std::array<double, 2>{0.0, 0.0};
+      r.series["pile"] = dem::to_json(dem::measure_conical_angle_of_repose(pos, rad, a));
+      r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
+      r.observables["angle_of_repose_uncertainty_deg"] =
+          r.series["pile"]["angle_of_repose_uncertainty_deg"];
+      r.observables["pile_height_m"] = r.series["pile"]["crest_height_m"];
+    } catch (const std::runtime_error& e) {
+      r.observables["angle_of_repose_deg"] = nullptr;
+      r.details["angle_of_repose_error"] = e.what();
+    }
+    r.observables["pile_base_diameter_m"] = 2.0 * std::min(reach, rb);
     return r;
   }
   if (kind == "sandglass_slice") {

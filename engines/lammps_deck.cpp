@@ -98,6 +98,25 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   // One fix per block: a union region as one wall gave NaNs in this LAMMPS version.
   for (const auto& b : l.blocks) block(b);
   for (const auto& b : l.closing_blocks) block(b);
+  // Funnels and cylinders: open-ended shells, grains inside; discs: solid, grains outside.
+  for (const auto& sh : l.shells) {
+    s << "region          shl_" << sh.name << " ";
+    if (sh.radius_lower_m == sh.radius_upper_m)
+      s << "cylinder z 0 0 " << n(sh.radius_lower_m);
+    else
+      s << "cone z 0 0 " << n(sh.radius_lower_m) << " " << n(sh.radius_upper_m);
+    s << " " << n(sh.z_lower_m) << " " << n(sh.z_upper_m) << " side in open 1 open 2 units box\n"
+      << "fix             wall_" << sh.name << " all wall/gran/region granular " << pw
+      << " region shl_" << sh.name << "\n";
+  }
+  auto disc = [&](const AxialDisc& d) {
+    s << "region          dsc_" << d.name << " cylinder z 0 0 " << n(d.radius_m) << " "
+      << n(d.z_lower_m) << " " << n(d.z_upper_m) << " side out units box\n"
+      << "fix             wall_" << d.name << " all wall/gran/region granular " << pw
+      << " region dsc_" << d.name << "\n";
+  };
+  for (const auto& d : l.discs) disc(d);
+  for (const auto& d : l.closing_discs) disc(d);
 
   s << "\nfix             gravity all gravity 9.81 vector 0 0 -1\n"
     << "fix             integrate all nve/sphere\n"
@@ -135,14 +154,22 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     const std::size_t surplus = f.layers * f.sites_per_layer - f.count;
     s << "\n# insertion: jittered cubic lattice, " << f.layers << " layers of " << f.sites_per_layer
       << " sites, the top layer thinned to " << f.count << " particles\n"
-      << "lattice         sc " << n(f.spacing_m) << " origin 0.5 0.5 0.5\n"
-      << "region          fill block " << box_words(f.region) << " units box\n"
-      << "create_atoms    1 region fill\n";
+      << "lattice         sc " << n(f.spacing_m) << " origin 0.5 0.5 0.5\n";
+    // A box, or the sites of the box within the cylinder's radius.
+    auto fill_region = [&](const std::string& name, double z_lower) {
+      if (f.cylinder_radius_m > 0.0)
+        s << "region          " << name << " cylinder z 0 0 " << n(f.cylinder_radius_m) << " "
+          << n(z_lower) << " " << n(f.region.upper_m.z) << " units box\n";
+      else
+        s << "region          " << name << " block " << n(f.region.lower_m.x) << " "
+          << n(f.region.upper_m.x) << " " << n(f.region.lower_m.y) << " " << n(f.region.upper_m.y)
+          << " " << n(z_lower) << " " << n(f.region.upper_m.z) << " units box\n";
+    };
+    fill_region("fill", f.region.lower_m.z);
+    s << "create_atoms    1 region fill\n";
     if (surplus > 0) {
-      BoxRegion topl = f.region;
-      topl.lower_m.z = f.region.upper_m.z - f.spacing_m;
-      s << "region          fill_top block " << box_words(topl) << " units box\n"
-        << "delete_atoms    porosity fill_top "
+      fill_region("fill_top", f.region.upper_m.z - f.spacing_m);
+      s << "delete_atoms    porosity fill_top "
         << n(static_cast<double>(surplus) / static_cast<double>(f.sites_per_layer)) << " "
         << (l.seed % 900000000 + 2) << "\n";
     }
@@ -152,6 +179,12 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
       << n(f.jitter_m) << " " << (l.seed % 900000000 + 3) << " units box\n";
     phase_loop(s, "fill", "(step>0)*(v_rms_speed<" + n(l.protocol.rest_speed_m_s) + ")",
                l.protocol.max_settle_s, l);
+  }
+
+  if (l.release) {
+    s << "\n# --- open the outlet: the material falls onto the plate\n";
+    for (const auto& d : l.closing_discs) s << "unfix           wall_" << d.name << "\n";
+    phase_loop(s, "pour", "v_rms_speed<" + n(l.protocol.rest_speed_m_s), l.protocol.max_flow_s, l);
   }
 
   if (l.discharge) {

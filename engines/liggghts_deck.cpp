@@ -87,6 +87,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   const auto mapped = map_to_liggghts(l.material, l.reduction, o.mapping);
   if (!mapped.ok()) return {std::nullopt, mapped.refusal};
   const LiggghtsMapping& m = *mapped.mapping;
+  if (!l.shells.empty() || !l.discs.empty() || !l.closing_discs.empty())
+    return {std::nullopt, "LIGGGHTS deck: cones, cylinders and discs (" + l.apparatus +
+                              ") are not written as STL meshes yet"};
   const std::string model = m.model_words();
   double d_max = 0.0;
   for (const auto& [d, p] : l.size_classes) d_max = std::max(d_max, d);

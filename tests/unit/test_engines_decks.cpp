@@ -84,6 +84,23 @@ TEST(EnginesDecks, LammpsSandglassSliceGolden) {
             static_cast<std::size_t>(std::llround(share / grain)));
 }
 
+TEST(EnginesDecks, LammpsConicalPileGolden) {
+  dem::ConicalPileOptions o;
+  o.funnel_top_diameter_m = 0.02;
+  o.funnel_outlet_diameter_m = 0.006;
+  o.feed_height_m = 0.02;
+  o.drop_height_m = 0.02;
+  o.base_diameter_m = 0.03;
+  o.fill_mass_kg = 0.004;
+  const auto r = write_lammps_deck(o, peer_material(), dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  expect_golden(r.deck->script, "engines/lammps_conical_pile.in");
+  EXPECT_NE(r.deck->script.find("cone z 0 0 0.003 0.01"), std::string::npos);
+  EXPECT_EQ(r.deck->record["measurement"]["kind"], "conical_angle_of_repose");
+  // dem::ConicalPile's plate height: max(0.3 r_base, 10 d).
+  EXPECT_DOUBLE_EQ(r.deck->record["measurement"]["base_height_m"].get<double>(), 0.01);
+}
+
 TEST(EnginesDecks, LiggghtsGoldens) {
   const auto pile = write_liggghts_deck(small_pile());
   ASSERT_TRUE(pile.ok()) << pile.refusal;
@@ -112,8 +129,11 @@ TEST(EnginesDecks, RefusalsNameWhatIsMissing) {
   EXPECT_NE(write_lammps_deck(cone, m, p).refusal.find("conical (hopper) bottom"),
             std::string::npos);
 
-  EXPECT_NE(write_liggghts_deck(dem::ConicalPileOptions{}, m, p).refusal.find("funnel"),
+  EXPECT_NE(write_liggghts_deck(dem::ConicalPileOptions{}, m, p).refusal.find("STL meshes yet"),
             std::string::npos);
+  dem::ConicalPileOptions slice;
+  slice.reduction.slice = true;
+  EXPECT_NE(write_lammps_deck(slice, m, p).refusal.find("V-shaped funnel"), std::string::npos);
 
   // LIGGGHTS's mesh walls in a thin periodic slab.
   const auto thin = write_liggghts_deck(sandglass_slice(4.0), m, p);
