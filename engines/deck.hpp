@@ -1,0 +1,50 @@
+#pragma once
+// An input deck for another engine: the script, any files it reads (meshes),
+// the names of what it writes, and the record of how it was made (the
+// parameter mapping and the apparatus layout) for the run store.
+
+#include "engines/parameter_mapping.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace demcal::engines {
+
+struct DeckOptions {
+  std::string script_name = "in.demcal";
+  std::string final_dump_name = "final.dump";        // particles at the end (custom dump)
+  std::string mass_series_name = "mass_series.txt";  // discharge runs only
+  // Verlet skin as a fraction of the largest diameter (demcal's default).
+  double skin_fraction_of_diameter = 0.3;
+  int thermo_every_steps = 2000;
+  MappingOptions mapping;
+};
+
+struct Deck {
+  std::string engine;  // "lammps" | "liggghts"
+  std::string script_name;
+  std::string script;
+  std::vector<std::pair<std::string, std::string>> files;  // (name, content) beside the script
+  std::string final_dump_name;
+  std::string mass_series_name;  // empty when the run records no m(t)
+  nlohmann::json record;         // {"engine", "mapping", "layout", "measurement"}
+};
+
+struct DeckResult {
+  std::optional<Deck> deck;
+  std::string refusal;
+  bool ok() const { return deck.has_value(); }
+};
+
+// Writes the script and its files into `directory` (created if missing).
+void write_deck_files(const Deck& deck, const std::filesystem::path& directory);
+
+// Locale-independent shortest round-trip text of a number, as decks print them.
+std::string deck_number(double value);
+
+}  // namespace demcal::engines

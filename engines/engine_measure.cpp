@@ -1,0 +1,154 @@
+#include "engines/engine_measure.hpp"
+
+#include "dem/measure/angle_of_repose.hpp"
+#include "dem/measure/discharge.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace demcal::engines {
+namespace {
+
+void measure_slice_pile(const std::vector<dem::Vec3>& pos, const std::vector<double>& rad,
+                        int long_axis, double base_height_m, dem::ApparatusResult& r) {
+  try {
+    dem::SliceAoROptions a;
+    a.long_axis = long_axis;
+    a.base_height_m = base_height_m;
+    r.series["pile"] = dem::to_json(dem::measure_slice_angle_of_repose(pos, rad, a));
+    r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
+    r.observables["angle_of_repose_uncertainty_deg"] =
+        r.series["pile"]["angle_of_repose_uncertainty_deg"];
+  } catch (const std::runtime_error& e) {
+    r.observables["angle_of_repose_deg"] = nullptr;
+    r.details["angle_of_repose_error"] = e.what();
+  }
+}
+
+double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+
+}  // namespace
+
+dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const ParticleDump& dump,
+                                           const MassSeries* series) {
+  dem::ApparatusResult r;
+  const std::string kind = plan.at("kind").get<std::string>();
+  r.details["apparatus"] = plan.at("apparatus");
+  r.details["particles"] = dump.size();
+  r.details["measured_by"] = "demcal (dem/measure) from the engine's final dump";
+  if (kind == "slice_angle_of_repose") {
+    std::vector<dem::Vec3> pos;
+    std::vector<double> rad;
+    const bool band = plan.contains("median_band");
+    for (std::size_t i = 0; i < dump.size(); ++i) {
+      if (band) {
+        const auto& b = plan["median_band"];
+        const double c = b.at("centre_m").get<double>(), h = b.at("half_width_m").get<double>();
+        if (std::abs(coord(dump.position_m[i], b.at("axis").get<int>()) - c) >= h) continue;
+      }
+      pos.push_back(dump.position_m[i]);
+      rad.push_back(dump.radius_m[i]);
+    }
+    r.details["median_plane_rule"] = band ? "particles within the median band" : "all particles";
+    measure_slice_pile(pos, rad, plan.value("long_axis", 0), plan.value("base_height_m", 0.0), r);
+    return r;
+  }
+  if (kind == "conical_angle_of_repose") {
+    // As dem::ConicalPile: the grains on the plate, below the outlet.
+    const double base = plan.at("base_height_m").get<double>();
+    const double outlet = plan.at("outlet_height_m").get<double>();
+    const double rb = plan.at("base_radius_m").get<double>();
+    std::vector<dem::Vec3> pos;
+    std::vector<double> rad;
+    double reach = 0.0;
+    for (std::size_t i = 0; i < dump.size(); ++i) {
+      const dem::Vec3& x = dump.position_m[i];
+      const double radial = std::hypot(x.x, x.y);
+      if (x.z > base && x.z < outlet && radial <= rb) {
+        pos.push_back(x);
+        rad.push_back(dump.radius_m[i]);
+        reach = std::max(reach, radial + dump.radius_m[i]);
+      }
+    }
+    r.details["particles_on_plate"] = pos.size();
+    try {
+      dem::ConicalAoROptions a;
+      a.base_height_m = base;
+      a.axis_centre_m = std::array<double, 2>{0.0, 0.0};
+      r.series["pile"] = dem::to_json(dem::measure_conical_angle_of_repose(pos, rad, a));
+      r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
+      r.observables["angle_of_repose_uncertainty_deg"] =
+          r.series["pile"]["angle_of_repose_uncertainty_deg"];
+      r.observables["pile_height_m"] = r.series["pile"]["crest_height_m"];
+    } catch (const std::runtime_error& e) {
+      r.observables["angle_of_repose_deg"] = nullptr;
+      r.details["angle_of_repose_error"] = e.what();
+    }
+    r.observables["pile_base_diameter_m"] = 2.0 * std::min(reach, rb);
+    return r;
+  }
+  if (kind == "sandglass_slice") {
+    if (series == nullptr) throw std::invalid_argument("sandglass measurement: no mass series");
+    const double fill = series->fill_mass_kg();
+    dem::DischargeOptions dopt;
+    dopt.stall_time_s = plan.at("stall_time_s").get<double>();
+    // As dem::Sandglass: a flat bottom keeps dead zones, so a clog is judged
+    // by an arch over the orifice, not by the fraction discharged.
+    dopt.complete_fraction = 1e-9;
+    dem::DischargeAnalysis flow =
+        dem::analyse_discharge(series->time_s, series->discharged_kg, fill, dopt);
+    const double zo = plan.at("orifice_plane_z_m").get<double>();
+    const double w = plan.at("orifice_width_m").get<double>();
+    if (flow.status == "complete" && flow.discharged_fraction < 1.0) {
+      std::size_t over = 0;
+      for (const auto& x : dump.position_m)
+        if (x.z > zo && x.z < zo + 2.0 * w && std::abs(x.x) < 0.25 * w) ++over;
+      r.details["grains_over_orifice_at_stop"] = over;
+      if (over > 0) {
+        std::ostringstream status;
+        status << "clogged: an arch over the orifice after " << 100.0 * flow.discharged_fraction
+               << " % discharged at t = " << flow.flow_stopped_s << " s";
+        flow.status = status.str();
+        flow.clogged = true;
+        flow.discharge_time_s = dem::DischargeAnalysis::kNaN;
+      } else {
+        r.details["retained_in_dead_zones_fraction"] = 1.0 - flow.discharged_fraction;
+      }
+    }
+    r.details["fill_mass_kg"] = fill;
+    r.details["discharge"] = dem::to_json(flow);
+    r.observables["discharge_time_s"] = std::isfinite(flow.discharge_time_s)
+                                            ? nlohmann::json(flow.discharge_time_s)
+                                            : nlohmann::json();
+    r.observables["mass_flow_rate_kg_s"] = std::isfinite(flow.mass_flow_rate_kg_s)
+                                               ? nlohmann::json(flow.mass_flow_rate_kg_s)
+                                               : nlohmann::json();
+    r.series["discharged_mass"] = dem::series_to_json(series->time_s, series->discharged_kg);
+    if (plan.value("form_pile", true)) {
+      std::vector<dem::Vec3> pos;
+      std::vector<double> rad;
+      for (std::size_t i = 0; i < dump.size(); ++i)
+        if (dump.position_m[i].z < zo) {
+          pos.push_back(dump.position_m[i]);
+          rad.push_back(dump.radius_m[i]);
+        }
+      measure_slice_pile(pos, rad, 0, 0.0, r);
+    }
+    return r;
+  }
+  throw std::invalid_argument("unknown measurement kind \"" + kind + "\"");
+}
+
+dem::ApparatusResult measure_engine_run(const Deck& deck, const std::filesystem::path& dir) {
+  const ParticleDump dump = read_custom_dump(dir / deck.final_dump_name);
+  if (deck.mass_series_name.empty())
+    return measure_engine_output(deck.record.at("measurement"), dump, nullptr);
+  const MassSeries series = read_mass_series(dir / deck.mass_series_name);
+  return measure_engine_output(deck.record.at("measurement"), dump, &series);
+}
+
+}  // namespace demcal::engines

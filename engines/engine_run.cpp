@@ -1,0 +1,78 @@
+#include "engines/engine_run.hpp"
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace demcal::engines {
+namespace {
+
+// Single-quoted for /bin/sh: the directory may hold spaces.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string last_error_line(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string line, error;
+  while (std::getline(in, line))
+    if (line.rfind("ERROR", 0) == 0) error = line;
+  return error;
+}
+
+}  // namespace
+
+std::string engine_version_from_log(const std::filesystem::path& log) {
+  std::ifstream in(log);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("LAMMPS (", 0) == 0 || line.rfind("LIGGGHTS (", 0) == 0) return line;
+  return "";
+}
+
+bool executable_available(const std::string& executable) {
+  if (executable.find('/') != std::string::npos) return ::access(executable.c_str(), X_OK) == 0;
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return false;
+  std::istringstream dirs(path);
+  for (std::string dir; std::getline(dirs, dir, ':');)
+    if (!dir.empty() && ::access((std::filesystem::path(dir) / executable).c_str(), X_OK) == 0)
+      return true;
+  return false;
+}
+
+EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
+                           const std::filesystem::path& directory) {
+  write_deck_files(deck, directory);
+  EngineRunResult r;
+  r.directory = directory;
+  r.log = directory / launch.log_name;
+  const std::string cmd = "cd " + quoted(directory.string()) + " && " + launch.command + " -in " +
+                          quoted(deck.script_name) + " -log " + quoted(launch.log_name) +
+                          // LIGGGHTS 3.8 crashes writing its warnings with -screen none.
+                          (deck.engine == "liggghts" ? "" : " -screen none") +
+                          " > engine.stdout 2>&1";
+  const auto start = std::chrono::steady_clock::now();
+  const int status = std::system(cmd.c_str());
+  r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.engine_version = engine_version_from_log(r.log);
+  const bool exited_ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!exited_ok) {
+    const std::string error = last_error_line(r.log);
+    throw std::runtime_error(deck.engine + " run failed (" + cmd + ")" +
+                             (error.empty() ? "" : ": " + error) + "; see " + r.log.string());
+  }
+  if (!std::filesystem::exists(directory / deck.final_dump_name))
+    throw std::runtime_error(deck.engine + " run wrote no " + deck.final_dump_name + "; see " +
+                             r.log.string());
+  return r;
+}
+
+}  // namespace demcal::engines

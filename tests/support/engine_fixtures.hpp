@@ -1,0 +1,30 @@
+#pragma once
+// Materials and apparatus for the engines/ tests: the peers' quasi-2D pile
+// material (d = 1 mm, E = 1e7 Pa, e = 0.6) with demcal's epsd rolling, small
+// enough that a deck written from it runs in seconds.
+
+#include "dem/apparatus/granular_material.hpp"
+#include "dem/size_distribution.hpp"
+
+namespace demcal::testing {
+
+inline dem::GranularMaterial peer_material(const std::string& rolling = "epsd") {
+  dem::GranularMaterial m;
+  m.particle.name = "grain";
+  m.particle.density_kg_m3 = 2650.0;
+  m.particle.youngs_modulus_pa = 1e7;
+  m.particle.poisson_ratio = 0.3;
+  m.wall = m.particle;
+  m.wall.name = "wall";
+  m.particle_particle.restitution = 0.6;
+  m.particle_particle.sliding_friction = 0.5;
+  m.particle_particle.rolling_friction = 0.1;
+  m.particle_wall = m.particle_particle;
+  m.particle_wall.sliding_friction = 0.9;
+  m.particle_wall.rolling_friction = 0.3;
+  m.contact.rolling = rolling;
+  m.sizes = dem::make_monodisperse(1e-3);
+  return m;
+}
+
+}  // namespace demcal::testing

@@ -1,0 +1,135 @@
+// The parameter mapping (engines/parameter_mapping.hpp): the LAMMPS damping
+// input against the two-sphere collision measured in LAMMPS, the conventions
+// of each rolling model, and the refusals.
+#include "engines/parameter_mapping.hpp"
+
+#include "dem/contact/restitution_damping.hpp"
+#include "tests/support/engine_fixtures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace demcal::engines {
+namespace {
+
+using testing::peer_material;
+
+TEST(EnginesMapping, TsujiPolynomialDecreasesAndInverts) {
+  double previous = lammps_tsuji_alpha(0.0);
+  for (int i = 1; i <= 1000; ++i) {
+    const double a = lammps_tsuji_alpha(i / 1000.0);
+    EXPECT_LT(a, previous) << "at " << i / 1000.0;
+    previous = a;
+  }
+  for (double c : {0.05, 0.3, 0.43, 0.48, 0.9})
+    EXPECT_NEAR(lammps_tsuji_input_for_alpha(lammps_tsuji_alpha(c)), c, 1e-12);
+  EXPECT_THROW(lammps_tsuji_input_for_alpha(2.0), std::domain_error);
+}
+
+// LAMMPS 29Sep2021, coll_test.in with limit_damping: tsuji input 0.43 gives a
+// measured restitution of 0.60 (README of the peers); this mapping's input for
+// e = 0.6 is 0.4361, which measured e_pair 0.605, e_wall 0.603 at dt = 5e-6 s.
+TEST(EnginesMapping, LammpsTsujiInputMatchesTheMeasuredCollision) {
+  const auto m = map_to_lammps(peer_material(), {});
+  ASSERT_TRUE(m.ok()) << m.refusal;
+  EXPECT_NEAR(m.value().particle_particle.tsuji_input, 0.4361, 2e-4);
+  EXPECT_NEAR(m.value().particle_wall.tsuji_input, 0.4361, 2e-4);
+  // And the other way: LAMMPS's alpha for input 0.43 is demcal's sqrt(5) beta of e ~ 0.596.
+  const double beta = lammps_tsuji_alpha(0.43) / std::sqrt(5.0);
+  EXPECT_NEAR(dem::restitution_for_damping_beta(beta), 0.596, 2e-3);
+}
+
+TEST(EnginesMapping, LammpsStiffnessesAreDemcalsEffectiveModuli) {
+  const auto& m = map_to_lammps(peer_material(), {}).value();
+  const double e_star = 1e7 / (2.0 * (1.0 - 0.09));
+  const double g = 1e7 / 2.6, g_star = g / (2.0 * 1.7);
+  EXPECT_NEAR(m.particle_particle.normal_stiffness_pa, 4.0 / 3.0 * e_star, 1e-6);
+  EXPECT_NEAR(m.particle_particle.tangential_stiffness_pa, 8.0 * g_star, 1e-6);
+  EXPECT_NEAR(m.particle_particle.tangential_damping_factor, 2.0 * std::sqrt(g_star / e_star),
+              1e-12);
+  // epsd has LAMMPS's lever R*: mu_r carries over.
+  EXPECT_DOUBLE_EQ(m.particle_particle.rolling_friction, 0.1);
+  EXPECT_DOUBLE_EQ(m.particle_wall.rolling_friction, 0.3);
+  EXPECT_GT(m.particle_particle.rolling_stiffness_n_m, 0.0);
+  EXPECT_GT(m.particle_particle.rolling_damping_n_s_m, 0.0);
+  // The record names every parameter with its rule.
+  const auto j = m.to_json();
+  EXPECT_EQ(j["engine"], "lammps");
+  EXPECT_GE(j["parameters"].size(), 16u);
+  for (const auto& p : j["parameters"]) EXPECT_FALSE(p["rule"].get<std::string>().empty());
+}
+
+TEST(EnginesMapping, LammpsRefusesWhatItCannotDo) {
+  auto cdt = map_to_lammps(peer_material("cdt"), {});
+  ASSERT_FALSE(cdt.ok());
+  EXPECT_NE(cdt.refusal.find("constant directional torque"), std::string::npos) << cdt.refusal;
+  EXPECT_THROW(cdt.value(), std::runtime_error);
+
+  MappingOptions allow;
+  allow.allow_rolling_substitute = true;
+  const auto sub = map_to_lammps(peer_material("cdt"), {}, allow);
+  ASSERT_TRUE(sub.ok());
+  EXPECT_DOUBLE_EQ(sub.value().particle_particle.rolling_friction, 0.2);  // lever R vs R/2
+  EXPECT_DOUBLE_EQ(sub.value().particle_wall.rolling_friction, 0.3);      // R at a wall both
+
+  auto own = peer_material("cdt");
+  own.contact.cdt_own_angular_velocity = true;
+  EXPECT_NE(map_to_lammps(own, {}, allow).refusal.find("own angular velocity"), std::string::npos);
+
+  auto jkr = peer_material();
+  jkr.contact.adhesion = "jkr";
+  EXPECT_NE(map_to_lammps(jkr, {}).refusal.find("adhesion \"jkr\""), std::string::npos);
+
+  auto drag = peer_material();
+  drag.air_drag = dem::AirProperties{};
+  EXPECT_NE(map_to_lammps(drag, {}).refusal.find("air drag"), std::string::npos);
+
+  // A restitution so low that Tsuji's polynomial cannot damp it.
+  auto dead = peer_material();
+  dead.particle_particle.restitution = 0.01;
+  EXPECT_NE(map_to_lammps(dead, {}).refusal.find("tsuji"), std::string::npos);
+}
+
+TEST(EnginesMapping, ModulusReductionIsApplied) {
+  dem::ModelReduction r;
+  r.shear_modulus_pa = 1e6;
+  const auto& m = map_to_lammps(peer_material(), r).value();
+  const double e = 2.0 * 1e6 * 1.3;
+  EXPECT_NEAR(m.particle_particle.normal_stiffness_pa, 4.0 / 3.0 * e / (2.0 * 0.91), 1e-6);
+}
+
+TEST(EnginesMapping, LiggghtsRestitutionIsTheLinearSpringFormulasOfDemcalsDamping) {
+  auto mat = peer_material();
+  mat.restitution_model = dem::RestitutionModel::kLinearSpringFormula;
+  const auto lin = map_to_liggghts(mat, {});
+  ASSERT_TRUE(lin.ok()) << lin.refusal;
+  // Same damping formula: the restitution carries over.
+  EXPECT_NEAR(lin.value().particle_particle.restitution, 0.6, 1e-12);
+
+  const auto exact = map_to_liggghts(peer_material(), {}).value();
+  const double beta = dem::damping_beta_for_restitution(0.6);
+  EXPECT_NEAR(exact.particle_particle.restitution,
+              std::exp(-M_PI * beta / std::sqrt(1.0 - beta * beta)), 1e-12);
+  EXPECT_LT(exact.particle_particle.restitution, 0.6);  // demcal's exact model damps less per beta
+  EXPECT_EQ(exact.pair_style_words(),
+            "model hertz tangential history rolling_friction epsd limitForce on");
+  EXPECT_FALSE(exact.approximations.empty());  // epsd spring on the secant stiffness
+
+  const auto cdt = map_to_liggghts(peer_material("cdt"), {}).value();
+  EXPECT_DOUBLE_EQ(cdt.particle_particle.rolling_friction, 0.2);
+  EXPECT_DOUBLE_EQ(cdt.particle_wall.rolling_friction, 0.3);
+
+  auto jkr = peer_material();
+  jkr.contact.adhesion = "jkr";
+  EXPECT_FALSE(map_to_liggghts(jkr, {}).ok());
+}
+
+TEST(EnginesMapping, EngineNames) {
+  EXPECT_EQ(engine_from_name("lammps"), Engine::kLammps);
+  EXPECT_EQ(engine_name(Engine::kLiggghts), "liggghts");
+  EXPECT_THROW(engine_from_name("edem"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace demcal::engines
