@@ -90,7 +90,13 @@ std::vector<double> interval(const Eigen::VectorXd& mean, const Eigen::MatrixXd&
 
 // "+1.9 (3.1 sigma)": a discrepancy in the observable's units and its posterior z.
 std::string size_text(const TargetDiscrepancy& t) {
-  return (t.mean >= 0.0 ? "+" : "") + fmt(t.mean, 2) + " (" + fmt(std::abs(t.z), 2) + " sd)";
+  // Appended piece by piece: GCC 12 raises a false -Wrestrict on const char* + string&&.
+  std::string s = t.mean >= 0.0 ? "+" : "";
+  s += fmt(t.mean, 2);
+  s += " (";
+  s += fmt(std::abs(t.z), 2);
+  s += " sd)";
+  return s;
 }
 
 }  // namespace
@@ -349,10 +355,16 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
     }
     s += ": ";
     for (std::size_t k = 0; k < order.size(); ++k) {
-      s += (k ? "; " : "") + order[k] + " at ";
+      s += k ? "; " : "";
+      s += order[k];
+      s += " at ";
       const auto& list = by_observable[order[k]];
-      for (std::size_t i = 0; i < list.size(); ++i)
-        s += (i ? ", " : "") + list[i]->setup + " " + size_text(*list[i]);
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        s += i ? ", " : "";
+        s += list[i]->setup;
+        s += " ";
+        s += size_text(*list[i]);
+      }
     }
   }
   s += ". ";

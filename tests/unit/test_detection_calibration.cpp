@@ -19,6 +19,7 @@
 //     (two-sided: too few alarms means the noise model is too generous and costs power);
 //   - mean chi2/dof within 0.1 of 1.
 #include "calibrate/calibration_problem.hpp"
+#include "calibrate/correlated_detection.hpp"
 #include "calibrate/mismatch_detection.hpp"
 #include "calibrate/scatter_budget.hpp"
 #include "surrogate/surrogate_fit.hpp"
@@ -70,13 +71,20 @@ struct Scenario {
   Scatter scatter = Scatter::constant;
   std::string surrogate = "polynomial";  // | "gaussian_process"
   bool local_scatter = false;            // the corrected rule of scatter_budget.hpp
+  // The first four observables come from the same runs (a sandglass's discharge time and
+  // its m(t) segments): one draw of the DEM scatter for all four.
+  bool shared_runs = false;
+  // The test of correlated_detection.hpp: replicate correlation, whitened GLS refit.
+  bool correlated_test = false;
+  // Diagnostic: sigma_dem from the true scatter at the truth instead of the pooled estimate.
+  bool oracle_scatter = false;
   int cases = 1000;
   std::uint64_t seed = 1;
 };
 
 struct NullStatistics {
   std::vector<double> p;
-  double mean_chi2_per_dof = 0.0;
+  double mean_chi2_per_dof = 0.0, median_chi2_per_dof = 0.0;
   double ks = 0.0;
   int alarms_05 = 0, alarms_01 = 0;
 };
@@ -111,10 +119,14 @@ NullStatistics run_null_cases(const Scenario& sc) {
 
   NullStatistics out;
   double chi2_per_dof_sum = 0.0;
+  std::vector<double> chi2_per_dof;
   for (int c = 0; c < sc.cases; ++c) {
     const double t1 = uni(rng), t2 = uni(rng);
     std::vector<Target> targets;
     std::vector<std::vector<ReplicatePoint>> replicates;
+    std::vector<double> shared_design, shared_recording;
+    for (int r = 0; r < kLevels * kLevels * kDesignReplicates; ++r) shared_design.push_back(z(rng));
+    for (int r = 0; r < kRecordingRepeats; ++r) shared_recording.push_back(z(rng));
     for (int k = 0; k < kObservables; ++k) {
       surrogate::ReplicatedData data;
       data.input_names = {"mu_r", "mu_s"};
@@ -134,7 +146,10 @@ NullStatistics run_null_cases(const Scenario& sc) {
           for (int r = 0; r < kDesignReplicates; ++r, ++row) {
             data.x(row, 0) = pt.x(0);
             data.x(row, 1) = pt.x(1);
-            data.y(row) = f[static_cast<std::size_t>(k)](u1, u2) + scatter(k, u1, u2) * z(rng);
+            data.y(row) = f[static_cast<std::size_t>(k)](u1, u2) +
+                          scatter(k, u1, u2) * (sc.shared_runs && k < 4
+                                                    ? shared_design[static_cast<std::size_t>(row)]
+                                                    : z(rng));
             data.group.push_back(group);
             pt.values.push_back(data.y(row));
           }
@@ -144,23 +159,27 @@ NullStatistics run_null_cases(const Scenario& sc) {
       spec.model = sc.surrogate;
       spec.degree = 2;
       spec.starts = 2;
+      const bool shared = sc.shared_runs && k < 4;
       const auto fit = surrogate::fit_surrogate(data, spec);
 
       const double sd_truth = scatter(k, t1, t2);
       double mean = 0.0;
       for (int r = 0; r < kRecordingRepeats; ++r)
-        mean += f[static_cast<std::size_t>(k)](t1, t2) + sd_truth * z(rng);
+        mean += f[static_cast<std::size_t>(k)](t1, t2) +
+                sd_truth * (shared ? shared_recording[static_cast<std::size_t>(r)] : z(rng));
       mean /= kRecordingRepeats;
       // The instrument: half the DEM term, as in tests/concealed (AoR 0.5 deg against
       // 1.9 deg / sqrt(3)).
       const double sigma_m = 0.5 * scatter(k, 0.5, 0.5) / std::sqrt(double(kRecordingRepeats));
       Target t;
-      t.setup = "s";
+      // The first four share a setup (and, with shared_runs, its runs).
+      t.setup = k < 4 ? "sandglass" : "setup_" + std::to_string(k);
       t.observable = data.output_name;
       t.measured = mean + sigma_m * z(rng);
       t.sigma_measured = sigma_m;
       t.model = fit.model;
-      t.sigma_dem = fit.scatter.sd / std::sqrt(double(kRecordingRepeats));
+      t.sigma_dem =
+          (sc.oracle_scatter ? sd_truth : fit.scatter.sd) / std::sqrt(double(kRecordingRepeats));
       targets.push_back(t);
       replicates.push_back(points);
     }
@@ -173,7 +192,15 @@ NullStatistics run_null_cases(const Scenario& sc) {
       CalibrationProblem second(bounds, local);
       minima = find_minima(second, co);
     }
-    const auto d = detect_mismatch(minima.front().chi_squared, kObservables, 2);
+    std::vector<std::string> setups;
+    for (const auto& t : targets) setups.push_back(t.setup);
+    const auto d =
+        sc.correlated_test
+            ? correlated_mismatch(CalibrationProblem(bounds, targets), minima.front().theta,
+                                  replicate_correlation(replicates, setups))
+                  .detection
+            : detect_mismatch(minima.front().chi_squared, kObservables, 2);
+    chi2_per_dof.push_back(d.chi_square_per_dof);
     out.p.push_back(d.p_value);
     chi2_per_dof_sum += d.chi_square_per_dof;
     out.alarms_05 += d.p_value < 0.05 ? 1 : 0;
@@ -181,6 +208,8 @@ NullStatistics run_null_cases(const Scenario& sc) {
   }
   out.mean_chi2_per_dof = chi2_per_dof_sum / sc.cases;
   out.ks = ks_uniform(out.p);
+  std::nth_element(chi2_per_dof.begin(), chi2_per_dof.begin() + sc.cases / 2, chi2_per_dof.end());
+  out.median_chi2_per_dof = chi2_per_dof[static_cast<std::size_t>(sc.cases / 2)];
   return out;
 }
 
@@ -188,10 +217,10 @@ void report(const char* name, const Scenario& sc, const NullStatistics& s) {
   std::printf(
       "[detection calibration] %s: N = %d, KS D = %.4f (1%% critical %.4f), alarms at 0.05: %d "
       "(%.3f), at 0.01: "
-      "%d (%.3f), mean chi2/dof = %.3f\n",
+      "%d (%.3f), mean chi2/dof = %.3f, median %.3f (chi2(6): 0.891)\n",
       name, sc.cases, s.ks, 1.63 / std::sqrt(double(sc.cases)), s.alarms_05,
       s.alarms_05 / double(sc.cases), s.alarms_01, s.alarms_01 / double(sc.cases),
-      s.mean_chi2_per_dof);
+      s.mean_chi2_per_dof, s.median_chi2_per_dof);
 }
 
 void expect_calibrated(const Scenario& sc, const NullStatistics& s) {
@@ -202,10 +231,58 @@ void expect_calibrated(const Scenario& sc, const NullStatistics& s) {
   EXPECT_NEAR(s.mean_chi2_per_dof, 1.0, 0.1);
 }
 
+// Measured, not asserted: the figures the report quotes for the rule of today under scatter
+// that varies over the box, and with observables that share runs.
+TEST(DetectionCalibration, Figures) {
+  Scenario rel;
+  rel.scatter = Scatter::relative;
+  report("relative scatter, polynomial, pooled sd (today)", rel, run_null_cases(rel));
+  rel.local_scatter = true;
+  report("relative scatter, polynomial, local sd (corrected)", rel, run_null_cases(rel));
+  Scenario shared;
+  shared.shared_runs = true;
+  report("constant scatter, 4 observables sharing runs, pooled sd", shared, run_null_cases(shared));
+  shared.correlated_test = true;
+  report("constant scatter, 4 observables sharing runs, correlated test", shared,
+         run_null_cases(shared));
+  shared.oracle_scatter = true;
+  report("constant scatter, 4 observables sharing runs, correlated test, true scatter", shared,
+         run_null_cases(shared));
+  Scenario gp;
+  gp.surrogate = "gaussian_process";
+  gp.cases = 200;
+  report("constant scatter, gaussian process, pooled sd", gp, run_null_cases(gp));
+}
+
 TEST(DetectionCalibration, ConstantScatterPolynomialSurrogate) {
   Scenario sc;
   const auto s = run_null_cases(sc);
   report("constant scatter, polynomial, pooled sd", sc, s);
+  expect_calibrated(sc, s);
+}
+
+// The sandglass case: four observables read off the same runs. The corrected statistic is
+// calibrated by the same criteria when the scatter is known (oracle). With the scatter
+// estimated from the 16 replicate pairs it is not yet: measured KS D 0.054, alarms 8.0 % at
+// 0.05 and 2.9 % at 0.01 (Figures) -- one scatter estimate shared by four targets errs for
+// all four at once, a t-like tail the chi-square reference ignores. The plain test there:
+// KS D 0.163, median chi2/dof 0.70 against 0.89, alarms 2.2 % at 0.01.
+TEST(DetectionCalibration, SharedRunsCorrelatedTestKnownScatter) {
+  Scenario sc;
+  sc.shared_runs = true;
+  sc.correlated_test = true;
+  sc.oracle_scatter = true;
+  const auto s = run_null_cases(sc);
+  report("shared runs, correlated test", sc, s);
+  expect_calibrated(sc, s);
+}
+
+// The corrected test must not cost anything where the targets are independent.
+TEST(DetectionCalibration, CorrelatedTestOnIndependentTargets) {
+  Scenario sc;
+  sc.correlated_test = true;
+  const auto s = run_null_cases(sc);
+  report("independent runs, correlated test", sc, s);
   expect_calibrated(sc, s);
 }
 
