@@ -45,7 +45,7 @@ constexpr int kRecordingRepeats = 3;
 // How the DEM's run-to-run scatter depends on theta.
 enum class Scatter {
   constant,  // the same everywhere: the pooled replicate sd is the scatter at the truth
-  relative,  // proportional to the response (discharge times): pooled sd is an average
+  growing,   // 0.4 to 1.6 times that from one end of mu_r to the other: pooled sd is an average
 };
 
 // Quadratic responses in unit coordinates u in [0, 1]^2, so that a degree-2 polynomial
@@ -78,6 +78,8 @@ struct Scenario {
   bool correlated_test = false;
   // Diagnostic: sigma_dem from the true scatter at the truth instead of the pooled estimate.
   bool oracle_scatter = false;
+  // Range of the truth's first unit coordinate (the one the growing scatter grows with).
+  double truth_low = 0.15, truth_high = 0.85;
   int cases = 1000;
   std::uint64_t seed = 1;
 };
@@ -110,18 +112,19 @@ NullStatistics run_null_cases(const Scenario& sc) {
   co.mcmc_samples = 0;
 
   // Scatter of one run at unit point (u1, u2): about 8 % of the response's mean over the
-  // box, either constant or proportional to the response (a factor of about 3 over the box).
-  auto scatter = [&](int k, double u1, double u2) {
+  // box, constant or growing fourfold along mu_r.
+  auto scatter = [&](int k, double u1, double /*u2*/) {
     const double typical = 0.08 * f[static_cast<std::size_t>(k)](0.5, 0.5);
     if (sc.scatter == Scatter::constant) return typical;
-    return 0.08 * std::abs(f[static_cast<std::size_t>(k)](u1, u2));
+    return typical * (0.4 + 1.2 * u1);
   };
 
   NullStatistics out;
   double chi2_per_dof_sum = 0.0;
   std::vector<double> chi2_per_dof;
   for (int c = 0; c < sc.cases; ++c) {
-    const double t1 = uni(rng), t2 = uni(rng);
+    const double t1 = sc.truth_low + (sc.truth_high - sc.truth_low) * (uni(rng) - 0.15) / 0.7;
+    const double t2 = uni(rng);
     std::vector<Target> targets;
     std::vector<std::vector<ReplicatePoint>> replicates;
     std::vector<double> shared_design, shared_recording;
@@ -231,14 +234,25 @@ void expect_calibrated(const Scenario& sc, const NullStatistics& s) {
   EXPECT_NEAR(s.mean_chi2_per_dof, 1.0, 0.1);
 }
 
-// Measured, not asserted: the figures the report quotes for the rule of today under scatter
-// that varies over the box, and with observables that share runs.
-TEST(DetectionCalibration, Figures) {
+// Measured, not asserted: the figures docs/detection_calibration.md quotes for the rule of
+// today under scatter that varies over the box, and with observables that share runs. About
+// 20 s, so disabled; run with --gtest_also_run_disabled_tests.
+TEST(DetectionCalibration, DISABLED_Figures) {
   Scenario rel;
-  rel.scatter = Scatter::relative;
-  report("relative scatter, polynomial, pooled sd (today)", rel, run_null_cases(rel));
+  rel.scatter = Scatter::growing;
+  report("growing scatter, polynomial, pooled sd (today)", rel, run_null_cases(rel));
   rel.local_scatter = true;
-  report("relative scatter, polynomial, local sd (corrected)", rel, run_null_cases(rel));
+  report("growing scatter, polynomial, local sd (corrected)", rel, run_null_cases(rel));
+  // Conditional on where the truth lies: at the low-scatter end the pooled sd overstates.
+  Scenario low;
+  low.scatter = Scatter::growing;
+  low.truth_low = 0.0;
+  low.truth_high = 0.2;
+  low.cases = 500;
+  report("growing scatter, truth at the low-scatter end, pooled sd (today)", low,
+         run_null_cases(low));
+  low.local_scatter = true;
+  report("growing scatter, truth at the low-scatter end, local sd", low, run_null_cases(low));
   Scenario shared;
   shared.shared_runs = true;
   report("constant scatter, 4 observables sharing runs, pooled sd", shared, run_null_cases(shared));
@@ -258,6 +272,17 @@ TEST(DetectionCalibration, ConstantScatterPolynomialSurrogate) {
   Scenario sc;
   const auto s = run_null_cases(sc);
   report("constant scatter, polynomial, pooled sd", sc, s);
+  expect_calibrated(sc, s);
+}
+
+// Scatter growing fourfold along mu_r: the pooled sd fails the criteria (KS D 0.073, see
+// Figures); the local rule of scatter_budget.hpp, a second pass at the base fit, meets them.
+TEST(DetectionCalibration, GrowingScatterLocalRule) {
+  Scenario sc;
+  sc.scatter = Scatter::growing;
+  sc.local_scatter = true;
+  const auto s = run_null_cases(sc);
+  report("growing scatter, local sd", sc, s);
   expect_calibrated(sc, s);
 }
 
