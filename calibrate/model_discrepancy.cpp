@@ -425,4 +425,45 @@ nlohmann::json ExplanationDecision::to_json() const {
           {"statement", statement}};
 }
 
+DiscrepancyJudgement judge_against_discrepancy(const std::vector<ParameterBounds>& parameters,
+                                               const std::vector<Target>& targets,
+                                               const std::vector<TargetKey>& held_out,
+                                               const DiscrepancyDiagnosis& diagnosis,
+                                               const SetupVariables& setup_variables,
+                                               const DiscrepancyOptions& discrepancy_options,
+                                               const ExplanationOptions& explanation_options) {
+  if (diagnosis.base.minima.empty())
+    throw std::invalid_argument(
+        "judge_against_discrepancy: the diagnosis' base calibration has no minimum");
+  std::vector<Target> fitted;
+  for (const Target& t : targets) {
+    bool out = false;
+    for (const TargetKey& k : held_out)
+      out = out || (k.setup == t.setup && k.observable == t.observable);
+    if (!out) fitted.push_back(t);
+  }
+  DiscrepancyJudgement j;
+  const CalibrationProblem problem(parameters, fitted);
+  try {
+    j.discrepancy = discrepancy_evidence(problem, diagnosis.base.minima.front().theta,
+                                         setup_variables, discrepancy_options);
+  } catch (const std::runtime_error& e) {
+    j.note = std::string("No comparison with a generic model discrepancy: ") + e.what();
+    return j;
+  }
+  std::vector<ModelEvidence> candidates;
+  for (const CandidateFit& f : diagnosis.fits) candidates.push_back(f.evidence);
+  j.decision = decide_explanation(diagnosis.detection, diagnosis.base_evidence, candidates,
+                                  j.discrepancy, explanation_options);
+  j.available = true;
+  return j;
+}
+
+nlohmann::json DiscrepancyJudgement::to_json() const {
+  if (!available) return {{"available", false}, {"note", note}};
+  return {{"available", true},
+          {"discrepancy", discrepancy.to_json()},
+          {"decision", decision.to_json()}};
+}
+
 }  // namespace demcal::calibrate

@@ -28,6 +28,7 @@
 // linearization), so the two are on one scale and bayes_factor() applies.
 
 #include "calibrate/calibration_problem.hpp"
+#include "calibrate/discrepancy_diagnosis.hpp"
 #include "calibrate/mismatch_detection.hpp"
 #include "calibrate/mismatch_location.hpp"
 #include "calibrate/model_evidence.hpp"
@@ -143,5 +144,27 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
                                        const std::vector<ModelEvidence>& candidates,
                                        const DiscrepancyEvidence& discrepancy,
                                        const ExplanationOptions& options = {});
+
+// The whole competition after diagnose_discrepancy, in one call for the workflow: the
+// discrepancy's evidence on the targets the base model was fitted to (`targets` without
+// `held_out`, as passed to diagnose_discrepancy), then decide_explanation with every fitted
+// candidate's evidence. When the base Jacobian is rank deficient (no Laplace evidence),
+// available is false, a note says so and the diagnosis stands as it is.
+struct DiscrepancyJudgement {
+  bool available = false;
+  DiscrepancyEvidence discrepancy;
+  ExplanationDecision decision;
+  std::string note;
+  nlohmann::json to_json() const;
+};
+
+// Throws std::invalid_argument as discrepancy_evidence and decide_explanation do.
+DiscrepancyJudgement judge_against_discrepancy(const std::vector<ParameterBounds>& parameters,
+                                               const std::vector<Target>& targets,
+                                               const std::vector<TargetKey>& held_out,
+                                               const DiscrepancyDiagnosis& diagnosis,
+                                               const SetupVariables& setup_variables = {},
+                                               const DiscrepancyOptions& discrepancy_options = {},
+                                               const ExplanationOptions& explanation_options = {});
 
 }  // namespace demcal::calibrate

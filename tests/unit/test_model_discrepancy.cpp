@@ -313,11 +313,13 @@ Judged judge(int e, double phi, unsigned long seed) {
   Judged j;
   const WorldRun run = diagnose(e, phi, seed, o);
   j.d = run.d;
-  const CalibrationProblem problem(base_bounds(), without_held_out(base_targets(run.y)));
-  j.disc = discrepancy_evidence(problem, j.d.base.minima.front().theta, setup_variables());
-  std::vector<ModelEvidence> candidates;
-  for (const CandidateFit& f : j.d.fits) candidates.push_back(f.evidence);
-  j.decision = decide_explanation(j.d.detection, j.d.base_evidence, candidates, j.disc);
+  // What the workflow calls after diagnose_discrepancy (base_targets() ends with the held-out ones).
+  const DiscrepancyJudgement judged =
+      judge_against_discrepancy(base_bounds(), base_targets(run.y), kHeldOut, j.d, setup_variables());
+  EXPECT_TRUE(judged.available) << judged.note;
+  j.disc = judged.discrepancy;
+  j.decision = judged.decision;
+  EXPECT_FALSE(judged.to_json().dump().empty());
   return j;
 }
 
