@@ -52,7 +52,8 @@ class AnalyticSurrogate final : public SurrogateModel {
  public:
   using Function = std::function<double(const Eigen::VectorXd&)>;
 
-  AnalyticSurrogate(std::vector<std::string> names, Function mean) : names_(std::move(names)), mean_(std::move(mean)) {}
+  AnalyticSurrogate(std::vector<std::string> names, Function mean)
+      : names_(std::move(names)), mean_(std::move(mean)) {}
 
   std::string kind() const override { return "analytic"; }
   std::string description() const override { return "analytic test function"; }
@@ -65,7 +66,9 @@ class AnalyticSurrogate final : public SurrogateModel {
     for (Eigen::Index i = 0; i < points.rows(); ++i) p.mean(i) = mean_(points.row(i).transpose());
     return p;
   }
-  Eigen::VectorXd predict_mean(const Eigen::MatrixXd& points) const override { return predict(points).mean; }
+  Eigen::VectorXd predict_mean(const Eigen::MatrixXd& points) const override {
+    return predict(points).mean;
+  }
   Eigen::MatrixXd gradient(const Eigen::MatrixXd& points) const override {
     check(points);
     Eigen::MatrixXd g(points.rows(), points.cols());
@@ -83,19 +86,23 @@ class AnalyticSurrogate final : public SurrogateModel {
 
  private:
   void check(const Eigen::MatrixXd& points) const {
-    demcal::surrogate::detail::check_points("analytic", points, static_cast<Eigen::Index>(names_.size()));
+    demcal::surrogate::detail::check_points("analytic", points,
+                                            static_cast<Eigen::Index>(names_.size()));
   }
   std::vector<std::string> names_;
   Function mean_;
 };
 
-std::shared_ptr<const SurrogateModel> model(std::vector<std::string> names, AnalyticSurrogate::Function f) {
+std::shared_ptr<const SurrogateModel> model(std::vector<std::string> names,
+                                            AnalyticSurrogate::Function f) {
   return std::make_shared<AnalyticSurrogate>(std::move(names), std::move(f));
 }
 
 // Gaussian draws from GSL's MT19937: the same on every platform.
 struct Normal {
-  explicit Normal(unsigned long seed) : rng(gsl_rng_alloc(gsl_rng_mt19937)) { gsl_rng_set(rng, seed); }
+  explicit Normal(unsigned long seed) : rng(gsl_rng_alloc(gsl_rng_mt19937)) {
+    gsl_rng_set(rng, seed);
+  }
   ~Normal() { gsl_rng_free(rng); }
   Normal(const Normal&) = delete;
   Normal& operator=(const Normal&) = delete;
@@ -120,7 +127,14 @@ const std::vector<std::string> kBaseNames = {"mu_r", "mu_s"};
 const Eigen::Vector2d kTruth(0.3, 0.5);
 std::vector<ParameterBounds> base_bounds() { return {{"mu_r", 0.05, 0.8}, {"mu_s", 0.2, 0.9}}; }
 
-enum Effect { kNone = -1, kCohesion = 0, kWallFriction = 1, kMoisture = 2, kOrificeAor = 3, kTimeBias = 4 };
+enum Effect {
+  kNone = -1,
+  kCohesion = 0,
+  kWallFriction = 1,
+  kMoisture = 2,
+  kOrificeAor = 3,
+  kTimeBias = 4
+};
 constexpr int kCandidates = 3;  // kOrificeAor is no candidate: the blind case
 
 struct Spec {
@@ -147,7 +161,8 @@ std::vector<Spec> specs() {
   return s;
 }
 constexpr std::size_t kHeldOutCount = 2;
-const std::vector<TargetKey> kHeldOut = {{"orifice_8mm", "discharge_time_s"}, {"container_3d", "angle_of_repose_deg"}};
+const std::vector<TargetKey> kHeldOut = {{"orifice_8mm", "discharge_time_s"},
+                                         {"container_3d", "angle_of_repose_deg"}};
 
 std::vector<Target> without_held_out(std::vector<Target> all) {
   all.resize(all.size() - kHeldOutCount);
@@ -157,16 +172,21 @@ std::vector<Target> without_held_out(std::vector<Target> all) {
 SetupVariables setup_variables() {
   SetupVariables v;
   for (const Spec& s : specs()) {
-    if (s.sandglass()) v[s.setup]["orifice_diameter_m"] = s.orifice_m;
-    else v[s.setup]["thickness_d"] = s.thickness_d;
+    if (s.sandglass())
+      v[s.setup]["orifice_diameter_m"] = s.orifice_m;
+    else
+      v[s.setup]["thickness_d"] = s.thickness_d;
   }
   return v;
 }
 
 double base_mean(const Spec& s, const Eigen::VectorXd& x) {
   const double mu_r = x(0), mu_s = x(1);
-  if (s.time()) return 5.0 * std::pow(s.orifice_m / 0.014, -2.5) * (1.0 + 0.4 * mu_r + 1.2 * mu_s + 0.6 * mu_s * mu_s);
-  if (s.sandglass()) return 20.0 + 30.0 * mu_r + 12.0 * mu_s + 8.0 * mu_r * mu_r + 100.0 * (s.orifice_m - 0.014);
+  if (s.time())
+    return 5.0 * std::pow(s.orifice_m / 0.014, -2.5) *
+           (1.0 + 0.4 * mu_r + 1.2 * mu_s + 0.6 * mu_s * mu_s);
+  if (s.sandglass())
+    return 20.0 + 30.0 * mu_r + 12.0 * mu_s + 8.0 * mu_r * mu_r + 100.0 * (s.orifice_m - 0.014);
   return 22.0 + 28.0 * mu_r + 14.0 * mu_s + 6.0 * mu_r * mu_s + 4.0 / s.thickness_d;
 }
 
@@ -183,15 +203,19 @@ double effect(const Spec& s, const Eigen::VectorXd& x, int e, double phi) {
       return s.sandglass() && !s.time() ? phi * 400.0 * (s.orifice_m - 0.014) : 0.0;
     case kTimeBias:  // a constant offset of every discharge time (a clock started late)
       return s.time() ? phi : 0.0;
-    default: return 0.0;
+    default:
+      return 0.0;
   }
 }
 
 CandidateParameter candidate_parameter(int e) {
   switch (e) {
-    case kCohesion: return {"surface_energy_j_m2", 0.0, 0.0, 0.2};
-    case kWallFriction: return {"wall_friction_coefficient", 0.0, 0.0, 1.0};
-    default: return {"moisture_content", 0.0, 0.0, 0.1};
+    case kCohesion:
+      return {"surface_energy_j_m2", 0.0, 0.0, 0.2};
+    case kWallFriction:
+      return {"wall_friction_coefficient", 0.0, 0.0, 1.0};
+    default:
+      return {"moisture_content", 0.0, 0.0, 0.1};
   }
 }
 const char* candidate_name(int e) {
@@ -215,7 +239,8 @@ std::vector<double> record(int e, double phi, unsigned long seed) {
   std::vector<double> y;
   for (const Spec& s : specs()) {
     const Sigmas sg = sigmas(s);
-    y.push_back(base_mean(s, kTruth) + effect(s, kTruth, e, phi) + std::hypot(sg.measured, sg.dem) * n());
+    y.push_back(base_mean(s, kTruth) + effect(s, kTruth, e, phi) +
+                std::hypot(sg.measured, sg.dem) * n());
   }
   return y;
 }
@@ -227,7 +252,8 @@ std::vector<Target> base_targets(const std::vector<double>& y) {
     const Spec s = all[i];
     const Sigmas sg = sigmas(s);
     t.push_back({s.setup, s.observable, y[i], sg.measured, sg.dem,
-                 model(kBaseNames, [s](const Eigen::VectorXd& x) { return base_mean(s, x); }), true});
+                 model(kBaseNames, [s](const Eigen::VectorXd& x) { return base_mean(s, x); }),
+                 true});
   }
   return t;
 }
@@ -238,7 +264,9 @@ std::vector<Target> extended_targets(int e, const std::vector<double>& y) {
   const std::vector<std::string> names = {"mu_r", "mu_s", candidate_parameter(e).name};
   for (std::size_t i = 0; i < all.size(); ++i) {
     const Spec s = all[i];
-    t[i].model = model(names, [s, e](const Eigen::VectorXd& x) { return base_mean(s, x) + effect(s, x, e, x(2)); });
+    t[i].model = model(names, [s, e](const Eigen::VectorXd& x) {
+      return base_mean(s, x) + effect(s, x, e, x(2));
+    });
   }
   return t;
 }
@@ -261,7 +289,8 @@ DiagnosisOptions quick_options() {
 // The sensitivities a user would measure: a few DEM runs at the base fit with the module
 // off and on (4 replicates each, at half the parameter's range), so their standard error
 // is sqrt(2 / 4) sigma_dem / (range / 2), and the estimate carries that noise.
-CandidateModule candidate(int e, const Eigen::VectorXd& theta_hat, const std::vector<double>& y, Normal& noise) {
+CandidateModule candidate(int e, const Eigen::VectorXd& theta_hat, const std::vector<double>& y,
+                          Normal& noise) {
   CandidateModule c;
   c.name = candidate_name(e);
   c.parameter = candidate_parameter(e);
@@ -280,15 +309,18 @@ struct WorldRun {
   std::vector<double> y;
 };
 
-WorldRun diagnose(int e, double phi, unsigned long seed, const DiagnosisOptions& options = quick_options()) {
+WorldRun diagnose(int e, double phi, unsigned long seed,
+                  const DiagnosisOptions& options = quick_options()) {
   WorldRun run;
   run.y = record(e, phi, seed);
   std::vector<Target> all = base_targets(run.y);
   // The user calibrates first, then runs the DEM at the base fit for the sensitivities.
-  const CalibrationResult base = calibrate(base_bounds(), without_held_out(all), options.calibration);
+  const CalibrationResult base =
+      calibrate(base_bounds(), without_held_out(all), options.calibration);
   Normal noise(seed + 7919);
   std::vector<CandidateModule> candidates;
-  for (int k = 0; k < kCandidates; ++k) candidates.push_back(candidate(k, base.minima.front().theta, run.y, noise));
+  for (int k = 0; k < kCandidates; ++k)
+    candidates.push_back(candidate(k, base.minima.front().theta, run.y, noise));
   run.d = diagnose_discrepancy(base_bounds(), all, candidates, setup_variables(), options);
   return run;
 }
@@ -313,9 +345,10 @@ Judged judge(int e, double phi, unsigned long seed) {
   Judged j;
   const WorldRun run = diagnose(e, phi, seed, o);
   j.d = run.d;
-  // What the workflow calls after diagnose_discrepancy (base_targets() ends with the held-out ones).
-  const DiscrepancyJudgement judged =
-      judge_against_discrepancy(base_bounds(), base_targets(run.y), kHeldOut, j.d, setup_variables());
+  // What the workflow calls after diagnose_discrepancy (base_targets() ends with the held-out
+  // ones).
+  const DiscrepancyJudgement judged = judge_against_discrepancy(base_bounds(), base_targets(run.y),
+                                                                kHeldOut, j.d, setup_variables());
   EXPECT_TRUE(judged.available) << judged.note;
   j.disc = judged.discrepancy;
   j.decision = judged.decision;
@@ -324,10 +357,12 @@ Judged judge(int e, double phi, unsigned long seed) {
 }
 
 void print(const char* what, int seed, const Judged& j) {
-  std::printf("[model discrepancy] %s seed %d: %s %s, best %s, log B over discrepancy %.2f, over base %.2f; %s\n",
-              what, seed, to_string(j.decision.verdict), j.decision.physics.c_str(), j.decision.best_candidate.c_str(),
-              j.decision.log_bayes_factor_over_discrepancy, j.decision.log_bayes_factor_over_base,
-              j.decision.statement.c_str());
+  std::printf(
+      "[model discrepancy] %s seed %d: %s %s, best %s, log B over discrepancy %.2f, over base "
+      "%.2f; %s\n",
+      what, seed, to_string(j.decision.verdict), j.decision.physics.c_str(),
+      j.decision.best_candidate.c_str(), j.decision.log_bayes_factor_over_discrepancy,
+      j.decision.log_bayes_factor_over_base, j.decision.statement.c_str());
 }
 
 TEST(ModelDiscrepancy, ZeroAmplitudeIsTheBaseLaplaceEvidence) {
@@ -336,7 +371,8 @@ TEST(ModelDiscrepancy, ZeroAmplitudeIsTheBaseLaplaceEvidence) {
   const CalibrationResult base = calibrate(base_bounds(), targets, quick_calibration());
   const ModelEvidence ev = model_evidence(base, "base");
   const CalibrationProblem problem(base_bounds(), targets);
-  const DiscrepancyEvidence disc = discrepancy_evidence(problem, base.minima.front().theta, setup_variables());
+  const DiscrepancyEvidence disc =
+      discrepancy_evidence(problem, base.minima.front().theta, setup_variables());
   EXPECT_NEAR(disc.log_evidence_base, ev.log_evidence_laplace, 1e-4);
   // The widened intervals contain the base model's.
   for (std::size_t k = 0; k < disc.lower.size(); ++k) {
@@ -364,8 +400,10 @@ TEST(ModelDiscrepancy, NamesACandidateThatReproducesTheSignature) {
 }
 
 TEST(ModelDiscrepancy, DiscrepancyWinsWhenNoCandidateHasThePattern) {
-  for (const auto& [e, phi, first, observable] : std::vector<std::tuple<int, double, int, std::string>>{
-           {kOrificeAor, 1.0, 300, "angle_of_repose_deg"}, {kTimeBias, 1.0, 400, "discharge_time_s"}}) {
+  for (const auto& [e, phi, first, observable] :
+       std::vector<std::tuple<int, double, int, std::string>>{
+           {kOrificeAor, 1.0, 300, "angle_of_repose_deg"},
+           {kTimeBias, 1.0, 400, "discharge_time_s"}}) {
     int detected = 0, discrepancy = 0, observable_named = 0;
     for (int k = 0; k < 5; ++k) {
       const Judged j = judge(e, phi, static_cast<unsigned long>(first + k));
