@@ -1,10 +1,13 @@
 #include "calibrate/correlated_detection.hpp"
 
+#include <gsl/gsl_cdf.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 
 namespace demcal::calibrate {
@@ -83,7 +86,11 @@ Eigen::MatrixXd error_correlation(const CalibrationProblem& problem, const Eigen
 
 CorrelatedFit correlated_mismatch(const CalibrationProblem& problem,
                                   const Eigen::VectorXd& theta_start, const Eigen::MatrixXd& rho,
-                                  const DetectionOptions& options, int iterations) {
+                                  const DetectionOptions& options, int iterations,
+                                  const ScatterUncertainty& scatter) {
+  if (scatter.degrees_of_freedom < 0 || (scatter.degrees_of_freedom > 0 && scatter.draws < 100))
+    throw std::invalid_argument(
+        "correlated_mismatch: ScatterUncertainty needs degrees_of_freedom >= 0 and draws >= 100");
   if (theta_start.size() != problem.parameter_count())
     throw std::invalid_argument("correlated_mismatch: theta_start has the wrong size");
   // C is held at the start: it changes slowly with theta, and a fixed metric keeps the
@@ -120,8 +127,79 @@ CorrelatedFit correlated_mismatch(const CalibrationProblem& problem,
     w = whitened(f.theta, &jw);
   }
   f.chi_square = chi2;
-  f.detection = detect_mismatch(chi2, static_cast<int>(problem.target_count()),
-                                static_cast<int>(problem.parameter_count()), options);
+  const auto n = problem.target_count(), p = problem.parameter_count();
+  f.detection = detect_mismatch(chi2, static_cast<int>(n), static_cast<int>(p), options);
+  f.p_value_known_scatter = f.detection.p_value;
+  if (scatter.degrees_of_freedom == 0 || f.detection.verdict == MismatchVerdict::untestable)
+    return f;
+
+  // The parts of each standardized error: DEM scatter a, surrogate s, instrument m.
+  const TargetPredictions pred = problem.evaluate(theta_start.transpose());
+  Eigen::VectorXd a(n), sv(n), m(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Target& t = problem.targets()[static_cast<std::size_t>(i)];
+    const double sig = pred.sigma_total(0, i);
+    a(i) = t.sigma_dem / sig;
+    m(i) = t.sigma_measured / sig;
+    sv(i) = std::sqrt(std::max(1.0 - a(i) * a(i) - m(i) * m(i), 0.0));
+  }
+  // A square root of the run correlation (eigenvalues clipped at 0: thresholding may
+  // leave it slightly indefinite).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(rho);
+  const Eigen::MatrixXd root =
+      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  // Groups: connected by a non-zero correlation.
+  std::vector<int> group(static_cast<std::size_t>(n), -1);
+  int groups = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (group[static_cast<std::size_t>(i)] >= 0) continue;
+    std::vector<Eigen::Index> stack = {i};
+    group[static_cast<std::size_t>(i)] = groups;
+    while (!stack.empty()) {
+      const Eigen::Index k = stack.back();
+      stack.pop_back();
+      for (Eigen::Index j = 0; j < n; ++j)
+        if (group[static_cast<std::size_t>(j)] < 0 && j != k && rho(k, j) != 0.0) {
+          group[static_cast<std::size_t>(j)] = groups;
+          stack.push_back(j);
+        }
+    }
+    ++groups;
+  }
+  // The fit's projection in the whitened metric: T = |w|^2 - |Q^T w|^2.
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jw);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, p);
+  std::mt19937_64 rng(scatter.seed);
+  std::normal_distribution<double> z(0.0, 1.0);
+  std::chi_squared_distribution<double> chi(static_cast<double>(scatter.degrees_of_freedom));
+  const double nu = scatter.degrees_of_freedom;
+  int exceed = 0;
+  Eigen::VectorXd u1(n), u2(n), e(n), g(groups);
+  for (int b = 0; b < scatter.draws; ++b) {
+    for (int k = 0; k < groups; ++k) g(k) = std::sqrt(nu / chi(rng));  // true / estimated sd
+    for (Eigen::Index i = 0; i < n; ++i) {
+      u1(i) = z(rng);
+      u2(i) = z(rng);
+    }
+    const Eigen::VectorXd dem = root * u1, surr = root * u2;
+    for (Eigen::Index i = 0; i < n; ++i)
+      e(i) =
+          a(i) * g(group[static_cast<std::size_t>(i)]) * dem(i) + sv(i) * surr(i) + m(i) * z(rng);
+    const Eigen::VectorXd w = llt.matrixL().solve(e);
+    const double t = w.squaredNorm() - (q.transpose() * w).squaredNorm();
+    exceed += t >= chi2 ? 1 : 0;
+  }
+  // (exceed + 1) / (draws + 1): never 0, as a Monte Carlo p-value must not be.
+  const double pv = (exceed + 1.0) / (scatter.draws + 1.0);
+  MismatchDetection& d = f.detection;
+  d.p_value = pv;
+  const std::string numbers = "(chi2/dof = " + std::to_string(d.chi_square_per_dof).substr(0, 4) +
+                              ", " + p_value_text(pv) + ", DEM scatter estimated)";
+  d.verdict = pv < options.alpha ? MismatchVerdict::mismatch : MismatchVerdict::reproduced;
+  d.statement =
+      d.verdict == MismatchVerdict::mismatch
+          ? "The recordings are not reproduced " + numbers + "."
+          : "The base model reproduces the recordings " + numbers + ": no physics is added.";
   return f;
 }
 

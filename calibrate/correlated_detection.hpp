@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,10 +45,24 @@ Eigen::MatrixXd replicate_correlation(const std::vector<std::vector<ReplicatePoi
 Eigen::MatrixXd error_correlation(const CalibrationProblem& problem, const Eigen::VectorXd& theta,
                                   const Eigen::MatrixXd& run_correlation);
 
+// The DEM scatter is itself estimated, from `degrees_of_freedom` replicate pairs' worth of
+// runs; targets read off the same runs err together. Taking sigma_dem as known then makes
+// the test anti-conservative (one low estimate shrinks every sigma of a setup at once).
+// With degrees_of_freedom > 0 the p-value is the predictive one: Monte Carlo over
+// sigma_dem^2 = estimate * nu / chi^2(nu) (the Jeffreys posterior of a variance), one draw
+// per group of correlated targets (connected by a kept correlation), the standardized
+// errors drawn with that scatter and the statistic projected as the fit would.
+struct ScatterUncertainty {
+  int degrees_of_freedom = 0;  // nu of the replicate scatter estimate; 0: taken as known
+  int draws = 4000;            // Monte Carlo draws of the reference distribution (>= 100)
+  std::uint64_t seed = 1;
+};
+
 struct CorrelatedFit {
-  Eigen::VectorXd theta;    // the generalized-least-squares refit, inside the bounds
-  double chi_square = 0.0;  // |L^-1 r(theta)|^2
-  MismatchDetection detection;
+  Eigen::VectorXd theta;               // the generalized-least-squares refit, inside the bounds
+  double chi_square = 0.0;             // |L^-1 r(theta)|^2
+  MismatchDetection detection;         // its p_value is the predictive one when nu > 0
+  double p_value_known_scatter = 0.0;  // P(chi^2(n - p) >= chi_square)
 };
 
 // Gauss-Newton on the whitened residuals from theta_start (the base fit), at most
@@ -56,6 +71,7 @@ struct CorrelatedFit {
 CorrelatedFit correlated_mismatch(const CalibrationProblem& problem,
                                   const Eigen::VectorXd& theta_start,
                                   const Eigen::MatrixXd& run_correlation,
-                                  const DetectionOptions& options = {}, int iterations = 20);
+                                  const DetectionOptions& options = {}, int iterations = 20,
+                                  const ScatterUncertainty& scatter = {});
 
 }  // namespace demcal::calibrate
