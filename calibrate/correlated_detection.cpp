@@ -1,5 +1,7 @@
 #include "calibrate/correlated_detection.hpp"
 
+#include "calibrate/detail/number_text.hpp"
+
 #include <gsl/gsl_cdf.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
@@ -193,8 +195,8 @@ CorrelatedFit correlated_mismatch(const CalibrationProblem& problem,
   const double pv = (exceed + 1.0) / (scatter.draws + 1.0);
   MismatchDetection& d = f.detection;
   d.p_value = pv;
-  const std::string numbers = "(chi2/dof = " + std::to_string(d.chi_square_per_dof).substr(0, 4) +
-                              ", " + p_value_text(pv) + ", DEM scatter estimated)";
+  const std::string numbers = "(chi2/dof = " + detail::fmt(d.chi_square_per_dof, 2) + ", " +
+                              p_value_text(pv) + ", DEM scatter estimated)";
   d.verdict = pv < options.alpha ? MismatchVerdict::mismatch : MismatchVerdict::reproduced;
   d.statement =
       d.verdict == MismatchVerdict::mismatch
