@@ -44,9 +44,10 @@ namespace demcal::calibrate {
 struct DiscrepancyOptions {
   // Range of the log-uniform hyperprior of both amplitudes, in sigma_total units. The
   // lower end is far below the noise (a discrepancy of 0.1 sigma cannot be seen); the
-  // upper end, 30 sigma, is larger than any mismatch a surrogate study leaves unexplained
-  // and costs the discrepancy log(300) ~ 5.7 over a range of one decade -- a vague prior
-  // would let it absorb anything, which is Brynjarsdottir & O'Hagan's (2014) warning.
+  // upper end, 30 sigma, is larger than any mismatch a surrogate study leaves unexplained.
+  // The prior's width in log tau, log(300) = 5.7, bounds the Occam factor an amplitude the
+  // data need can cost (about log(width / posterior width)). An unbounded, vague prior
+  // would let the discrepancy absorb anything: Brynjarsdottir & O'Hagan's (2014) warning.
   double min_amplitude = 0.1;
   double max_amplitude = 30.0;
   int amplitude_nodes = 25;  // per amplitude, log-spaced, both ends included (>= 2)
