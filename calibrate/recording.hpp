@@ -1,7 +1,7 @@
 #pragma once
 // What was measured in the laboratory: one value per setup and observable,
 // with its standard uncertainty. (Reading the CSV is the command line's job,
-// cli/recordings_csv.hpp; the calibration sees only these.)
+// config/recordings_csv.hpp; the calibration sees only these.)
 
 #include <string>
 #include <vector>

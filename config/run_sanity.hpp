@@ -19,6 +19,10 @@
 //   grain in the stiffest material, as the engine resolves it. A run whose
 //   estimate exceeds protocol.max_steps (default kDefaultMaxSteps = 1e10) is
 //   refused with the estimate.
+// - The number of grains: a fill estimated (its mass over the mean simulated
+//   grain's) at more than protocol.max_particles (default
+//   dem::RunProtocol::max_particles = 1e6) is refused by the apparatus itself,
+//   before its lattice is laid out, with the estimate and what to change.
 
 #include "config/toml_reader.hpp"
 #include "dem/apparatus/apparatus.hpp"

@@ -22,6 +22,22 @@ using namespace reader;
 
 namespace {
 
+// The wall groups of an apparatus kind (the names its walls are grouped under).
+std::vector<std::string> wall_group_names(const std::string& kind) {
+  if (kind == "sandglass") return dem::Sandglass::wall_group_names();
+  if (kind == "conical_pile") return dem::ConicalPile::wall_group_names();
+  return dem::RectangularContainer::wall_group_names();
+}
+
+// Every group name any apparatus has, each once, in a stable order.
+std::vector<std::string> all_wall_group_names() {
+  std::vector<std::string> all;
+  for (const char* kind : {"sandglass", "conical_pile", "rectangular_container"})
+    for (const std::string& g : wall_group_names(kind))
+      if (std::find(all.begin(), all.end(), g) == all.end()) all.push_back(g);
+  return all;
+}
+
 // Whether `key` occurs in `text` as a whole identifier (so that "height_m"
 // does not match inside "upper_height_m").
 std::size_t find_identifier(const std::string& text, const std::string& key) {
@@ -254,19 +270,37 @@ StudyConfig build_study(ConfigDocument&& doc) {
   Table int_t = root.table("interaction");
   std::vector<Table> pair_ts;
   std::vector<SurfaceEnergyKey> surface_energies;
-  pair_ts.reserve(2);  // surface_energies points into it
+  std::vector<std::pair<std::string, Table>>
+      wall_group_tables;  // checked once the apparatus are known
+  pair_ts.reserve(2);     // surface_energies points into it
   for (const char* pair : {"particle_particle", "particle_wall"}) {
     Table& t = pair_ts.emplace_back(int_t.table(pair));
     const dem::InteractionParameters p = read_interaction(t);
-    t.finish();
-    guarded(t, [&] { p.validate(t.path() + ": "); });
     // The exact model's damping is found by a root search that resolves
     // restitutions down to smallest_resolved_restitution() only.
-    if (material.restitution_model == dem::RestitutionModel::kExact) try {
-        (void)dem::damping_beta_for_restitution(p.restitution);
-      } catch (const std::invalid_argument& e) {
-        t.fail("restitution", e.what());
-      }
+    const auto check = [&](Table& table, const dem::InteractionParameters& q) {
+      guarded(table, [&] { q.validate(table.path() + ": "); });
+      if (material.restitution_model == dem::RestitutionModel::kExact) try {
+          (void)dem::damping_beta_for_restitution(q.restitution);
+        } catch (const std::invalid_argument& e) {
+          table.fail("restitution", e.what());
+        }
+    };
+    // [interaction.particle_wall.<group>]: the walls of an apparatus' group
+    // (a bare floor under a lined hopper) with their own values over
+    // particle_wall's. Absent groups are not written in (hashes unchanged).
+    if (std::string(pair) == "particle_wall")
+      for (const std::string& group : all_wall_group_names())
+        if (t.has(group)) {
+          Table gt = t.table(group);
+          const dem::InteractionParameters q = read_interaction_over(gt, p);
+          gt.finish();
+          check(gt, q);
+          material.particle_wall_by_group[group] = q;
+          wall_group_tables.emplace_back(group, gt);
+        }
+    t.finish();
+    check(t, p);
     (std::string(pair) == "particle_particle" ? material.particle_particle
                                               : material.particle_wall) = p;
     if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
@@ -297,6 +331,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // Not written in when absent: the runs of studies without it keep their hashes.
   const double max_steps =
       prot_t.has("max_steps") ? prot_t.number("max_steps", at_least(1)) : kDefaultMaxSteps;
+  // Not written in when absent either; the apparatus refuse a fill of more grains.
+  if (prot_t.has("max_particles"))
+    protocol.max_particles = prot_t.number("max_particles", at_least(1));
   check_rest_protocol(prot_t, protocol, material);
   prot_t.finish();
 
@@ -345,6 +382,21 @@ StudyConfig build_study(ConfigDocument&& doc) {
       a.apparatus = read_rectangular_container(t, material, max_steps, protocol);
     check_apparatus_extent(t, *a.apparatus);
     out.apparatus.push_back(std::move(a));
+  }
+  // A wall group no apparatus of the study has would silently change nothing.
+  for (auto& [group, gt] : wall_group_tables) {
+    bool used = false;
+    std::string groups_here;
+    for (const StudyApparatus& a : out.apparatus) {
+      const std::vector<std::string> names = wall_group_names(a.kind);
+      used = used || std::find(names.begin(), names.end(), group) != names.end();
+      std::string list;
+      for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+      groups_here += (groups_here.empty() ? "" : "; ") + a.name + ": " + list;
+    }
+    if (!used)
+      gt.fail_here("no apparatus of this study has a wall group \"" + group + "\" (" + groups_here +
+                   ")");
   }
   std::stable_sort(
       out.apparatus.begin(), out.apparatus.end(),

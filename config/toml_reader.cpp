@@ -204,6 +204,22 @@ dem::InteractionParameters read_interaction(Table& t) {
   return p;
 }
 
+dem::InteractionParameters read_interaction_over(Table& t, const dem::InteractionParameters& base) {
+  dem::InteractionParameters p = base;
+  if (t.has("restitution")) p.restitution = t.number("restitution", between(0, true, 1, false));
+  if (t.has("sliding_friction"))
+    p.sliding_friction = t.number_at_most("sliding_friction", at_least(0), kMaxFriction);
+  if (t.has("rolling_friction"))
+    p.rolling_friction = t.number_at_most("rolling_friction", at_least(0), kMaxFriction);
+  if (t.has("rolling_stiffness_factor"))
+    p.rolling_stiffness_factor = t.number("rolling_stiffness_factor", above(0));
+  if (t.has("rolling_damping_ratio"))
+    p.rolling_damping_ratio = t.number("rolling_damping_ratio", at_least(0));
+  if (t.has("surface_energy_j_m2"))
+    p.surface_energy_j_m2 = t.number("surface_energy_j_m2", at_least(0));
+  return p;
+}
+
 std::optional<dem::AirProperties> read_air(Table& t) {
   const std::string drag = t.choice_or("drag", {"none", "schiller_naumann"}, "none");
   // Read (and checked) either way, so that --set air.drag=... toggles the drag alone.

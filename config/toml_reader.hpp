@@ -510,6 +510,10 @@ std::string read_run_name(Table& t, std::string_view key);
 //                 in when absent); calls finish(); the air when drag is on
 void read_material_properties(Table& t, dem::Material& m);
 dem::InteractionParameters read_interaction(Table& t);
+// The keys of an interaction table given in `t` (an [interaction.particle_wall.<group>]
+// table), each over the value in `base`; keys not given keep the base's. The
+// same ranges as read_interaction; nothing is written in.
+dem::InteractionParameters read_interaction_over(Table& t, const dem::InteractionParameters& base);
 dem::ContactLawSpec read_contact(Table& t);
 dem::RestitutionModel read_restitution_model(Table& t);
 std::optional<dem::AirProperties> read_air(Table& t);

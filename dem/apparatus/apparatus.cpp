@@ -54,20 +54,28 @@ void require_positive(const char* apparatus, double value, const char* name) {
   }
 }
 
-double check_particle_count(const char* apparatus, double fill_mass_kg, const SizeDistribution& sizes,
-                            double density_kg_m3, const RunProtocol& p) {
+double check_particle_count(const char* apparatus, double fill_mass_kg,
+                            const SizeDistribution& sizes, double density_kg_m3,
+                            const RunProtocol& p) {
   const double grain_kg = density_kg_m3 * std::numbers::pi / 6.0 * sizes.mean_diameter_cubed_m3();
   const double grains = fill_mass_kg / grain_kg;
   if (!(grains <= p.max_particles)) {
     std::ostringstream s;
     s.precision(3);
     s << apparatus << ": the fill of " << fill_mass_kg << " kg is about " << grains << " grains of "
-      << grain_kg << " kg (the mean grain as simulated), more than protocol.max_particles = " << p.max_particles
-      << " allows; coarse-grain it (coarse_graining_factor), take a periodic slice, lower fill_mass_kg, "
+      << grain_kg
+      << " kg (the mean grain as simulated), more than protocol.max_particles = " << p.max_particles
+      << " allows; coarse-grain it (coarse_graining_factor), take a periodic slice, lower "
+         "fill_mass_kg, "
          "or raise protocol.max_particles";
     throw std::invalid_argument(s.str());
   }
   return grains;
+}
+
+double particle_cap_kg(const SizeDistribution& sizes, double density_kg_m3, const RunProtocol& p) {
+  return (p.max_particles + 1.0) * density_kg_m3 * std::numbers::pi / 6.0 *
+         sizes.mean_diameter_cubed_m3();
 }
 
 double total_mass_kg(const Particles& particles) {

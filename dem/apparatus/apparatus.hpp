@@ -81,8 +81,13 @@ void require_positive(const char* apparatus, double value, const char* name);
 // grain's, for the sizes as simulated, coarse graining included); throws
 // std::invalid_argument naming the apparatus, the estimate and what to change
 // when it exceeds p.max_particles.
-double check_particle_count(const char* apparatus, double fill_mass_kg, const SizeDistribution& sizes,
-                            double density_kg_m3, const RunProtocol& p);
+double check_particle_count(const char* apparatus, double fill_mass_kg,
+                            const SizeDistribution& sizes, double density_kg_m3,
+                            const RunProtocol& p);
+
+// The mass of p.max_particles + 1 mean grains: a capacity count need go no
+// further, since a fill beyond it is refused anyway.
+double particle_cap_kg(const SizeDistribution& sizes, double density_kg_m3, const RunProtocol& p);
 
 }  // namespace protocol
 }  // namespace demcal::dem

@@ -54,9 +54,9 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
   pour.velocity_m_s = {0, 0, -o.inlet_speed_m_s};
   pour.batch_volume_fraction = o.batch_volume_fraction;
   pour.gravity_m_s2 = so.gravity_m_s2;
-  sim->add_inserter(make_pour_inserter(
-      make_box_region({-ix, 0.0, o.inlet_bottom_m}, {ix, slab, o.inlet_top_m}),
-      make_monodisperse(d), pour));
+  sim->add_inserter(
+      make_pour_inserter(make_box_region({-ix, 0.0, o.inlet_bottom_m}, {ix, slab, o.inlet_top_m}),
+                         make_monodisperse(d), pour));
   return sim;
 }
 

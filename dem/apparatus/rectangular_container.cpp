@@ -20,14 +20,16 @@ void RectangularContainerOptions::validate() const {
     throw std::invalid_argument(
         "rectangular_container: give exactly one of thickness_m and thickness_diameters (> 0)");
   if (boundary != "walls" && boundary != "periodic")
-    throw std::invalid_argument("rectangular_container: boundary must be \"walls\" or \"periodic\", not \"" +
-                                boundary + "\"");
+    throw std::invalid_argument(
+        "rectangular_container: boundary must be \"walls\" or \"periodic\", not \"" + boundary +
+        "\"");
   if (inlet_height_m < 0.0 || inlet_height_m >= height_m)
     throw std::invalid_argument("rectangular_container: inlet_height_m must lie in [0, height_m)");
 }
 
 RectangularContainer::RectangularContainer(const RectangularContainerOptions& options,
-                                           const GranularMaterial& material, const RunProtocol& protocol)
+                                           const GranularMaterial& material,
+                                           const RunProtocol& protocol)
     : o_(options), protocol_(protocol) {
   o_.validate();
   if (!material.sizes)
@@ -39,8 +41,9 @@ RectangularContainer::RectangularContainer(const RectangularContainerOptions& op
   const bool periodic = o_.boundary == "periodic";
   if (thickness_m_ < (periodic ? 2.7 : 1.1) * d_max) {
     std::ostringstream s;
-    s << "rectangular_container: the thickness (" << thickness_m_ << " m) is too thin for particles of "
-      << d_max << " m" << (periodic ? " with a periodic boundary (at least 2.7 diameters)" : "");
+    s << "rectangular_container: the thickness (" << thickness_m_
+      << " m) is too thin for particles of " << d_max << " m"
+      << (periodic ? " with a periodic boundary (at least 2.7 diameters)" : "");
     throw std::invalid_argument(s.str());
   }
   protocol::check_particle_count("rectangular_container", o_.fill_mass_kg, *sizes,
@@ -68,7 +71,8 @@ RectangularContainer::RectangularContainer(const RectangularContainerOptions& op
   sim_ = std::make_unique<Simulation>(protocol::options_for(
       material, protocol, {-half - m, 0.0 - (periodic ? 0.0 : m), -m},
       {half + m, thickness_m_ + (periodic ? 0.0 : m), o_.height_m + m}, {false, periodic, false}));
-  const InstalledMaterials mat = install_materials(*sim_, material, o_.reduction, wall_group_names());
+  const InstalledMaterials mat =
+      install_materials(*sim_, material, o_.reduction, wall_group_names());
   const int p = mat.particle;
   const int ends = mat.wall_for("end_walls"), sides = mat.wall_for("side_walls");
   sim_->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mat.wall_for("floor"));
@@ -111,16 +115,17 @@ ApparatusResult RectangularContainer::run(const StepObserver& observe) {
       pos.push_back(pp.position_m[i]);
       rad.push_back(pp.radius_m[i]);
     }
-  r.details["median_plane_rule"] =
-      all ? "all particles (the container is thinner than the band)"
-          : "particles within " + std::to_string(o_.median_band_diameters) +
-                " diameters of the median plane";
+  r.details["median_plane_rule"] = all ? "all particles (the container is thinner than the band)"
+                                       : "particles within " +
+                                             std::to_string(o_.median_band_diameters) +
+                                             " diameters of the median plane";
   try {
     SliceAoROptions a;
     a.long_axis = 0;
     r.series["pile"] = to_json(measure_slice_angle_of_repose(pos, rad, a));
     r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
-    r.observables["angle_of_repose_uncertainty_deg"] = r.series["pile"]["angle_of_repose_uncertainty_deg"];
+    r.observables["angle_of_repose_uncertainty_deg"] =
+        r.series["pile"]["angle_of_repose_uncertainty_deg"];
   } catch (const std::runtime_error& e) {
     r.observables["angle_of_repose_deg"] = nullptr;
     r.details["angle_of_repose_error"] = e.what();

@@ -36,7 +36,8 @@ void SandglassOptions::validate() const {
     throw std::invalid_argument(
         "sandglass: hopper_half_angle_deg must lie in (0, 80) degrees from the vertical");
   if (orifice_diameter_m >= upper_diameter_m)
-    throw std::invalid_argument("sandglass: orifice_diameter_m must be smaller than upper_diameter_m");
+    throw std::invalid_argument(
+        "sandglass: orifice_diameter_m must be smaller than upper_diameter_m");
   if (lower_diameter_m < upper_diameter_m)
     throw std::invalid_argument(
         "sandglass: lower_diameter_m must be at least upper_diameter_m (the lower chamber "
@@ -51,7 +52,8 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
                      const RunProtocol& protocol)
     : o_(options), protocol_(protocol) {
   o_.validate();
-  if (!material.sizes) throw std::invalid_argument("sandglass: the material has no size distribution");
+  if (!material.sizes)
+    throw std::invalid_argument("sandglass: the material has no size distribution");
   auto sizes = scaled_sizes(material.sizes, o_.reduction.coarse_graining_factor);
   diameter_m_ = mean_diameter_m(*sizes);
   const double d_max = sizes->max_diameter_m();
@@ -65,7 +67,6 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   top_m_ = zo + cone_height_m_ + o_.upper_height_m;
   depth_m_ = slice ? o_.reduction.slice_thickness_diameters * diameter_m_ : 0.0;
   fill_mass_kg_ = slice ? o_.fill_mass_kg * depth_m_ / o_.upper_diameter_m : o_.fill_mass_kg;
-  protocol::check_particle_count("sandglass", fill_mass_kg_, *sizes, material.particle.density_kg_m3, protocol);
 
   if (o_.orifice_diameter_m < 3.0 * diameter_m_) {
     std::ostringstream s;
@@ -83,15 +84,21 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   const Vec3 lo = slice ? Vec3{-rl - m, 0.0, -m} : Vec3{-rl - m, -rl - m, -m};
   const Vec3 hi = slice ? Vec3{rl + m, depth_m_, top_m_ + m} : Vec3{rl + m, rl + m, top_m_ + m};
   const double z0 = zo + cone_height_m_ + margin;
-  auto region = fill_height <= 0.0 ? nullptr
-                : slice ? make_box_region({-ru + margin, 0.0, z0}, {ru - margin, depth_m_, z0 + fill_height})
-                        : make_cylinder_region({0, 0, z0}, ru - margin, fill_height);
+  auto region =
+      fill_height <= 0.0 ? nullptr
+      : slice ? make_box_region({-ru + margin, 0.0, z0}, {ru - margin, depth_m_, z0 + fill_height})
+              : make_cylinder_region({0, 0, z0}, ru - margin, fill_height);
+  const double cap_kg =
+      protocol::particle_cap_kg(*sizes, material.particle.density_kg_m3, protocol);
   const double capacity_kg =
       region ? lattice_capacity_kg(*region, *sizes, material.particle.density_kg_m3,
                                    Domain{lo, hi, {false, slice, false}},
-                                   o_.fill_lattice_spacing_diameters - 1.0, fill_mass_kg_)
+                                   o_.fill_lattice_spacing_diameters - 1.0,
+                                   std::min(fill_mass_kg_, cap_kg))
              : 0.0;
-  if (fill_mass_kg_ > capacity_kg) {
+  // Counted no further than the fill or the grain cap: beyond the cap the
+  // capacity is unknown, and the fill is refused for its grain count below.
+  if (fill_mass_kg_ > capacity_kg && capacity_kg <= cap_kg) {
     std::ostringstream s;
     s << "sandglass: the upper chamber cannot hold the fill: fill_mass_kg = " << o_.fill_mass_kg
       << " kg" << (slice ? " (the slice's share " + std::to_string(fill_mass_kg_) + " kg)" : "")
@@ -99,10 +106,13 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
       << " kg); raise upper_height_m or upper_diameter_m, or lower fill_mass_kg";
     throw std::invalid_argument(s.str());
   }
+  protocol::check_particle_count("sandglass", fill_mass_kg_, *sizes,
+                                 material.particle.density_kg_m3, protocol);
 
   sim_ = std::make_unique<Simulation>(
       protocol::options_for(material, protocol, lo, hi, {false, slice, false}));
-  const InstalledMaterials mat = install_materials(*sim_, material, o_.reduction, wall_group_names());
+  const InstalledMaterials mat =
+      install_materials(*sim_, material, o_.reduction, wall_group_names());
   const int p = mat.particle;
   const int floor = mat.wall_for("floor"), lower = mat.wall_for("lower_wall");
   const int plate = mat.wall_for("orifice_plate"), hopper = mat.wall_for("hopper");
@@ -112,10 +122,10 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   if (slice) {
     sim_->add_wall(std::make_unique<PlaneWall>(Vec3{-rl, 0, 0}, Vec3{1, 0, 0}), lower);
     sim_->add_wall(std::make_unique<PlaneWall>(Vec3{rl, 0, 0}, Vec3{-1, 0, 0}), lower);
-    orifice_wall_ = sim_->add_wall(
-        std::make_unique<OrificePlateWall>(OrificePlateWall::slot(
-            Vec3{0, 0.5 * depth_m_, zo}, Vec3{0, 0, 1}, Vec3{1, 0, 0}, o_.orifice_diameter_m, never)),
-        plate);
+    orifice_wall_ = sim_->add_wall(std::make_unique<OrificePlateWall>(OrificePlateWall::slot(
+                                       Vec3{0, 0.5 * depth_m_, zo}, Vec3{0, 0, 1}, Vec3{1, 0, 0},
+                                       o_.orifice_diameter_m, never)),
+                                   plate);
     if (cone_height_m_ > 0.0) {
       sim_->add_wall(make_slab_segment_wall(-r0, zo, -ru, zo + cone_height_m_, depth_m_), hopper);
       sim_->add_wall(make_slab_segment_wall(r0, zo, ru, zo + cone_height_m_, depth_m_), hopper);
@@ -124,12 +134,14 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
     sim_->add_wall(make_slab_segment_wall(ru, zo + cone_height_m_, ru, top_m_, depth_m_), hopper);
   } else {
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}, zo, rl), lower);
-    orifice_wall_ = sim_->add_wall(
-        std::make_unique<OrificePlateWall>(
-            OrificePlateWall::circular(Vec3{0, 0, zo}, Vec3{0, 0, 1}, o_.orifice_diameter_m, never, rl)),
-        plate);
+    orifice_wall_ =
+        sim_->add_wall(std::make_unique<OrificePlateWall>(OrificePlateWall::circular(
+                           Vec3{0, 0, zo}, Vec3{0, 0, 1}, o_.orifice_diameter_m, never, rl)),
+                       plate);
     if (cone_height_m_ > 0.0)
-      sim_->add_wall(std::make_unique<ConeWall>(Vec3{0, 0, zo}, Vec3{0, 0, 1}, cone_height_m_, r0, ru), hopper);
+      sim_->add_wall(
+          std::make_unique<ConeWall>(Vec3{0, 0, zo}, Vec3{0, 0, 1}, cone_height_m_, r0, ru),
+          hopper);
     sim_->add_wall(std::make_unique<CylinderWall>(Vec3{0, 0, zo + cone_height_m_}, Vec3{0, 0, 1},
                                                   o_.upper_height_m, ru),
                    hopper);
@@ -199,7 +211,8 @@ ApparatusResult Sandglass::run(const StepObserver& observe) {
   if (o_.reduction.slice) r.details["slice_thickness_m"] = depth_m_;
 
   // 1. Fill the upper chamber and let it settle with the orifice shut.
-  const bool settled = protocol::settle(sim, protocol_, protocol_.max_settle_s, observe, "fill", r.details);
+  const bool settled =
+      protocol::settle(sim, protocol_, protocol_.max_settle_s, observe, "fill", r.details);
   const double fill_mass = protocol::total_mass_kg(sim.particles());
   const double surface = fill_surface_height_m();
   const double bulk_volume = chamber_volume_below_m3(surface);
@@ -271,8 +284,9 @@ ApparatusResult Sandglass::run(const StepObserver& observe) {
     }
   }
   r.details["discharge"] = to_json(flow);
-  r.observables["discharge_time_s"] =
-      std::isfinite(flow.discharge_time_s) ? nlohmann::json(flow.discharge_time_s) : nlohmann::json();
+  r.observables["discharge_time_s"] = std::isfinite(flow.discharge_time_s)
+                                          ? nlohmann::json(flow.discharge_time_s)
+                                          : nlohmann::json();
   r.observables["mass_flow_rate_kg_s"] = std::isfinite(flow.mass_flow_rate_kg_s)
                                              ? nlohmann::json(flow.mass_flow_rate_kg_s)
                                              : nlohmann::json();

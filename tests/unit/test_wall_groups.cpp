@@ -2,6 +2,8 @@
 // group named in GranularMaterial::particle_wall_by_group gets a wall material
 // of its own with that interaction, every other wall keeps particle_wall, and
 // a material without groups installs exactly what it always did.
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
 #include "dem/apparatus/conical_pile.hpp"
 #include "dem/apparatus/granular_material.hpp"
 #include "dem/apparatus/rectangular_container.hpp"
@@ -10,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 namespace demcal::dem {
@@ -105,6 +109,32 @@ TEST(WallGroups, TheSandglassHopperLinedAndItsFloorBare) {
   EXPECT_DOUBLE_EQ(wall_friction(sim, 0), 0.25);
   for (std::size_t i = 1; i < sim.walls().size(); ++i)
     EXPECT_DOUBLE_EQ(wall_friction(sim, i), 0.52) << "wall " << i;
+}
+
+// The study config: [interaction.particle_wall.<group>] gives a group its own
+// values over particle_wall's, key by key.
+TEST(WallGroups, AStudyConfigGivesTheFloorItsOwnFriction) {
+  std::ifstream in(std::string(DEMCAL_SOURCE_DIR) + "/tests/bad_input/base/study.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const std::size_t at = toml.find("[protocol]");
+  ASSERT_NE(at, std::string::npos);
+  toml.insert(at, "[interaction.particle_wall.floor]\nsliding_friction = 0.21\n\n");
+  const config::StudyConfig study =
+      config::build_study(config::parse_config_string(toml, "study.toml"));
+  ASSERT_EQ(study.apparatus.size(), 1u);
+  const Simulation& sim = study.apparatus[0].apparatus->simulation();
+  const InteractionParameters* floor = sim.interaction(0, sim.wall_material(0));
+  const InteractionParameters* hopper =
+      sim.interaction(0, sim.wall_material(sim.walls().size() - 1));
+  ASSERT_NE(floor, nullptr);
+  ASSERT_NE(hopper, nullptr);
+  EXPECT_DOUBLE_EQ(floor->sliding_friction, 0.21);
+  EXPECT_NE(hopper->sliding_friction, 0.21);
+  // Keys the group does not give are particle_wall's.
+  EXPECT_DOUBLE_EQ(floor->restitution, hopper->restitution);
+  EXPECT_DOUBLE_EQ(floor->rolling_friction, hopper->rolling_friction);
 }
 
 }  // namespace
