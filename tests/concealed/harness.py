@@ -18,9 +18,17 @@ reads points to -- or with none (concealed-null). This script
                -> tests/concealed/results.csv, the table on stdout, the study READMEs
   table        the table and the study READMEs again, from results.csv
   all          the four in order
+  check        exit 1 unless the results meet the blind test's goal, stated before
+               any run: the hidden effect named right in >= --min-identified of the
+               effect cases (0.8) and no false alarm on the null study
+  verify       diagnose, then check: what ctest runs (tests/CMakeLists.txt, label
+               `concealed`, only with -DDEMCAL_LONG_TESTS=ON), with --out and
+               --results in the build tree and --no-readmes, so that nothing in the
+               source tree is written
 
 Every step is resumable: DEM runs already done are reused (run store, truth runs).
-Usage: harness.py [--demcal PATH] [--jobs N] [--seeds 1,2,3] STEP
+Usage: harness.py [--demcal PATH] [--jobs N] [--seeds 1,2,3] [--out DIR] [--results CSV]
+                  [--no-readmes] [--min-identified F] STEP
 """
 
 import argparse
@@ -38,7 +46,7 @@ from concurrent.futures import ThreadPoolExecutor
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 TRUTH = HERE / "truth"
-OUT = ROOT / "out" / "concealed"
+OUT = ROOT / "out" / "concealed"  # --out replaces it
 REPEATS = 3
 SETUPS = ["sandglass", "container_walls", "container_periodic"]
 # Instrument uncertainty of each recording: (observable, unit, absolute sd, relative sd).
@@ -51,6 +59,11 @@ INSTRUMENT = [
     ("discharge_t50_s", "s", 0.0, 0.01),
     ("discharge_t75_s", "s", 0.0, 0.01),
 ]
+
+
+def set_out(path):
+    global OUT
+    OUT = path.resolve()
 
 
 def series_observables(rec):
@@ -229,12 +242,34 @@ def step_diagnose(args):
             }
             results.append(row)
             print(f"{name}: {verdict} ({d['outcome']}, named {chosen}); {d['summary']}", flush=True)
-    with open(HERE / "results.csv", "w", newline="") as fh:
+    args.results.parent.mkdir(parents=True, exist_ok=True)
+    with open(args.results, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(results[0].keys()))
         w.writeheader()
         w.writerows(results)
     print_table(results)
-    write_readmes(results)
+    if not args.no_readmes:
+        write_readmes(results)
+
+
+def step_check(args):
+    """The goal of the blind test, fixed before any run (issue 6, restated in issue 19)."""
+    results = list(csv.DictReader(open(args.results)))
+    effects = [r for r in results if r["truth"] != "none"]
+    nulls = [r for r in results if r["truth"] == "none"]
+    right = sum(r["verdict"] == "right" for r in effects)
+    alarms = sum(r["verdict"] == "false alarm" for r in nulls)
+    failures = []
+    if not effects or right < args.min_identified * len(effects):
+        failures.append(f"the hidden effect named right in {right} of {len(effects)} cases, "
+                        f"fewer than {args.min_identified:.0%}")
+    if not nulls:
+        failures.append("no null case among the results: false alarms cannot be counted")
+    if alarms > 0:
+        failures.append(f"{alarms} false alarm(s) in {len(nulls)} null cases")
+    print(f"{args.results}: named right {right}/{len(effects)}, false alarms {alarms}/{len(nulls)}")
+    if failures:
+        sys.exit("blind test failed: " + "; ".join(failures))
 
 
 STUDY_README = """# {title}
@@ -318,14 +353,26 @@ def print_table(results):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("step", choices=["studies", "truth", "recordings", "diagnose", "table", "all"])
+    p.add_argument("step", choices=["studies", "truth", "recordings", "diagnose", "table", "all", "check", "verify"])
     p.add_argument("--demcal", default=str(ROOT / "build" / "cli" / "demcal"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--seeds", default="1,2,3", help="noise seeds, comma-separated")
+    p.add_argument("--out", type=pathlib.Path, default=OUT, help="run store and diagnoses")
+    p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
+    p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
+    p.add_argument("--min-identified", type=float, default=0.8)
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
+    set_out(args.out)
+    if args.step == "check":
+        step_check(args)
+        return
+    if args.step == "verify":
+        step_diagnose(args)
+        step_check(args)
+        return
     if args.step == "table":
-        results = list(csv.DictReader(open(HERE / "results.csv")))
+        results = list(csv.DictReader(open(args.results)))
         print_table(results)
         write_readmes(results)
         return
