@@ -98,16 +98,20 @@ void check_run_estimate(reader::Table& t, const dem::GranularMaterial& material,
 }
 
 void check_grain_count(reader::Table& t, const dem::GranularMaterial& material,
-                       const dem::ModelReduction& reduction, double fill_mass_kg) {
+                       const dem::ModelReduction& reduction, const dem::RunProtocol& protocol,
+                       double fill_mass_kg) {
   const double f = reduction.coarse_graining_factor;
-  const double grain_kg = material.particle.density_kg_m3 * std::numbers::pi / 6.0 *
-                          material.sizes->mean_diameter_cubed_m3() * f * f * f;
+  const double grain_kg =
+      dem::mean_grain_mass_kg(*material.sizes, material.particle.density_kg_m3) * f * f * f;
   const double grains = fill_mass_kg / grain_kg;
-  if (!(grains <= kMaxGrains))
+  const double cap = std::max(kMaxGrains, protocol.max_particles);
+  if (!(grains <= cap))
     t.fail("fill_mass_kg",
-           "expected at most " + format_number(kMaxGrains) + " grains' worth, got " +
+           "expected at most " + format_number(cap) + " grains' worth, got " +
                format_number(fill_mass_kg) + " kg = " + format_number(grains) + " grains of " +
-               format_number(grain_kg) + " kg; coarse-grain (coarse_graining_factor) or fill less");
+               format_number(grain_kg) +
+               " kg; coarse-grain (coarse_graining_factor), fill less, or raise "
+               "protocol.max_particles");
 }
 
 void check_cone_height(reader::Table& t, std::string_view angle_key, double wide_m, double narrow_m,

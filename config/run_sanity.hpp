@@ -36,8 +36,10 @@ inline constexpr double kStandardGravity = 9.81;
 inline constexpr double kImpactSpeed_m_s = 1.0;
 inline constexpr double kMaxOverlapFraction = 0.10;
 inline constexpr double kDefaultMaxSteps = 1e10;
-// More grains than this in one fill is beyond a workstation (and its fill
-// lattice alone would take minutes to lay out): refused at fill_mass_kg.
+// More grains than this in one fill (the full apparatus', before a slice takes
+// its share) is beyond a workstation: refused at fill_mass_kg, unless the study
+// raised protocol.max_particles above it (then that is the cap, so one key
+// decides how big a run may be, not two).
 inline constexpr double kMaxGrains = 1e7;
 // No laboratory test this toolkit models is larger than this in any direction.
 inline constexpr double kMaxApparatusExtent_m = 100.0;
@@ -62,10 +64,12 @@ void check_run_estimate(reader::Table& apparatus_table, const dem::GranularMater
                         const dem::ModelReduction& reduction, const dem::RunProtocol& protocol,
                         double max_steps);
 
-// fill_mass_kg / the mass of a mean (scaled) grain must be at most kMaxGrains
-// (the full apparatus' fill, before a slice takes its share).
+// fill_mass_kg / the mass of a mean (scaled) grain must be at most
+// max(kMaxGrains, protocol.max_particles) (the full apparatus' fill, before a
+// slice takes its share).
 void check_grain_count(reader::Table& t, const dem::GranularMaterial& material,
-                       const dem::ModelReduction& reduction, double fill_mass_kg);
+                       const dem::ModelReduction& reduction, const dem::RunProtocol& protocol,
+                       double fill_mass_kg);
 
 // A cone (hopper, funnel) from `wide_m` down to `narrow_m` at `half_angle_deg`
 // from the vertical must be at most kMaxApparatusExtent_m tall: refused at

@@ -136,7 +136,7 @@ std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMate
                   between(1, true, 3, false));
   o.reduction = read_reduction(t, true);
   t.finish();
-  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
   check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
 }
@@ -155,7 +155,7 @@ std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularM
   o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
   o.reduction = read_reduction(t, true);
   t.finish();
-  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
   check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
 }
@@ -184,7 +184,7 @@ std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t, const dem::
   o.median_band_diameters = t.number_or("median_band_diameters", 2.0, kPositive);
   o.reduction = read_reduction(t, false);
   t.finish();
-  check_grain_count(t, m, o.reduction, o.fill_mass_kg);
+  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
   check_run_estimate(t, m, o.reduction, p, max_steps);
   return build_guarded(t, [&] { return std::make_unique<dem::RectangularContainer>(o, m, p); });
 }

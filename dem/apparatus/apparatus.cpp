@@ -1,7 +1,8 @@
 #include "dem/apparatus/apparatus.hpp"
 
+#include "dem/apparatus/granular_material.hpp"
+
 #include <cmath>
-#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -57,7 +58,7 @@ void require_positive(const char* apparatus, double value, const char* name) {
 double check_particle_count(const char* apparatus, double fill_mass_kg,
                             const SizeDistribution& sizes, double density_kg_m3,
                             const RunProtocol& p) {
-  const double grain_kg = density_kg_m3 * std::numbers::pi / 6.0 * sizes.mean_diameter_cubed_m3();
+  const double grain_kg = mean_grain_mass_kg(sizes, density_kg_m3);
   const double grains = fill_mass_kg / grain_kg;
   if (!(grains <= p.max_particles)) {
     std::ostringstream s;
@@ -74,8 +75,7 @@ double check_particle_count(const char* apparatus, double fill_mass_kg,
 }
 
 double particle_cap_kg(const SizeDistribution& sizes, double density_kg_m3, const RunProtocol& p) {
-  return (p.max_particles + 1.0) * density_kg_m3 * std::numbers::pi / 6.0 *
-         sizes.mean_diameter_cubed_m3();
+  return (p.max_particles + 1.0) * mean_grain_mass_kg(sizes, density_kg_m3);
 }
 
 double total_mass_kg(const Particles& particles) {

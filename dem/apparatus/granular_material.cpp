@@ -50,10 +50,14 @@ double mean_diameter_m(const SizeDistribution& sizes) {
   return std::cbrt(sizes.mean_diameter_cubed_m3());
 }
 
+double mean_grain_mass_kg(const SizeDistribution& sizes, double density_kg_m3) {
+  return density_kg_m3 * std::numbers::pi / 6.0 * sizes.mean_diameter_cubed_m3();
+}
+
 double lattice_capacity_kg(const Region& region, const SizeDistribution& sizes,
                            double density_kg_m3, const Domain& domain, double lattice_gap,
                            double needed_kg) {
-  const double grain_kg = density_kg_m3 * std::numbers::pi / 6.0 * sizes.mean_diameter_cubed_m3();
+  const double grain_kg = mean_grain_mass_kg(sizes, density_kg_m3);
   std::size_t sites = 0;
   for_each_lattice_site(region, sizes.max_diameter_m(), lattice_gap, domain, [&](const Vec3&) {
     ++sites;

@@ -63,6 +63,10 @@ std::unique_ptr<SizeDistribution> scaled_sizes(std::shared_ptr<const SizeDistrib
 // Volume-equivalent mean diameter, (mean d^3)^(1/3): the "d" in "4 d" and in Beverloo's law.
 double mean_diameter_m(const SizeDistribution& sizes);
 
+// Mass of the mean grain, density pi/6 (mean d^3): what a fill mass is divided by
+// to count grains (the grain caps, the lattice's capacity).
+double mean_grain_mass_kg(const SizeDistribution& sizes, double density_kg_m3);
+
 // Mass a lattice fill of `region` takes (its sites times the mean particle
 // mass), for a lattice spaced (1 + lattice_gap) largest diameters. Counting
 // stops once the capacity exceeds needed_kg: whether a region holds a fill is
