@@ -145,7 +145,9 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
   return plan;
 }
 
-std::uint64_t dem_seed(std::uint64_t design_run_seed) { return design_run_seed >> 1; }
+// The top 53 bits: a study's seed must be an integer a double holds exactly (doe.csv's seed
+// column and the run key's canonical JSON are read as numbers), i.e. below 2^53.
+std::uint64_t dem_seed(std::uint64_t design_run_seed) { return design_run_seed >> 11; }
 
 void plan_adaptive_runs(DoePlan& plan, const std::vector<calibrate::RunRequest>& requests) {
   plan.generated.points.clear();

@@ -65,8 +65,8 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
 // request is dem_seed(request.seed). Throws ConfigError when a point does not build.
 void plan_adaptive_runs(DoePlan& plan, const std::vector<calibrate::RunRequest>& requests);
 
-// The seed the DEM runs with for an adaptive design's run seed (the study's seeds are
-// integers in [0, 2^63)).
+// The seed the DEM runs with for an adaptive design's run seed: its top 53 bits (a seed in
+// doe.csv and in the run key must be below 2^53).
 std::uint64_t dem_seed(std::uint64_t design_run_seed);
 
 // The study with run `run`'s design values, seed and threads set: what is built and run.

@@ -126,7 +126,7 @@ DoeTable make_doe_table(const DoePlan& plan,
   if (spec.kind == surrogate::DesignKind::kSobol) design["skip"] = spec.skip;
 
   const char* seed_rule = plan.design.adaptive
-                              ? "seed = (the design's SplitMix64 seed of (batch, slot)) >> 1"
+                              ? "seed = (the design's SplitMix64 seed of (batch, slot)) >> 11"
                               : "seed = study.seed + replicate";
   table.json = {{"study", plan.study_name},
                 {"study_file", plan.file},

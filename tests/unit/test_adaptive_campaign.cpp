@@ -5,6 +5,7 @@
 // history as one never interrupted, and makes the same choices; and the keys of
 // [design] kind = "adaptive" are read strictly.
 #include "cli/doe_command.hpp"
+#include "config/doe_csv.hpp"
 #include "config/study_config.hpp"
 #include "config/toml_reader.hpp"
 
@@ -74,6 +75,9 @@ TEST(AdaptiveCampaign, EndsByItsRuleAndWritesTableAndHistory) {
   EXPECT_GE(history.at("runs_done").get<int>(), 7);
   EXPECT_EQ(history.at("runs_done").get<std::size_t>(), r.rows);
   EXPECT_FALSE(history.at("text").get<std::string>().empty());
+  // doe.csv reads back (its seeds are below 2^53), as `demcal fit` reads it.
+  const config::DoeCsv csv_table = config::read_doe_csv(dir / "doe.csv");
+  EXPECT_EQ(csv_table.rows.size(), r.rows);
   const auto table = nlohmann::json::parse(slurp(dir / "doe.json"));
   EXPECT_EQ(table.at("design").at("kind"), "adaptive");
   for (const auto& row : table.at("rows")) {
