@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -192,6 +193,8 @@ int main(int argc, char** argv) {
                 ja.inside, jg.inside, ja.mu_s_identified, jg.mu_s_identified);
     if (k == 1 || adaptive.history.status != calibrate::AdaptiveDesignStatus::converged)
       std::printf("     %s\n", adaptive.history.statement.c_str());
+    if (k == 1 && std::getenv("DEMCAL_REPLAY_HISTORY"))
+      std::printf("%s\n", adaptive.history.to_text({"mu_r", "mu_s"}).c_str());
     std::fflush(stdout);
   }
   std::vector<double> sorted_runs = runs;
