@@ -1,5 +1,7 @@
 #include "calibrate/runs_calibration.hpp"
 
+#include "calibrate/scatter_budget.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -75,10 +77,8 @@ RunsCalibration calibrate_runs(const std::vector<ParameterBounds>& parameters,
     t.observable = rec.observable;
     t.measured = rec.value;
     t.sigma_measured = rec.sigma;
-    // As cli/calibration_targets.cpp: the recorded value is a mean of `repeats` tests.
-    t.sigma_dem = std::isfinite(fit.scatter.sd)
-                      ? fit.scatter.sd / std::sqrt(static_cast<double>(std::max(1, rec.repeats)))
-                      : 0.0;
+    // The one rule (as study/calibration_targets.cpp): a mean of `repeats` tests.
+    t.sigma_dem = recording_dem_sigma(fit.scatter.sd, std::max(1, rec.repeats));
     t.model = fit.model;
     out.targets.push_back(t);
   }

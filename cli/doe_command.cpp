@@ -1,6 +1,7 @@
 #include "cli/doe_command.hpp"
 
 #include "config/toml_reader.hpp"
+#include "study/adaptive_campaign.hpp"
 #include "study/doe_table.hpp"
 #include "study/progress_observer.hpp"
 
@@ -101,6 +102,50 @@ class DoeConsole final : public ProgressObserver {
   bool bar_shown_ = false;
 };
 
+// kind = "adaptive": the campaign loop of study/adaptive_campaign.hpp, then the same table.
+DoeOutcome run_adaptive_doe(DoePlan& plan, const RunStore& store, const DesignRunOptions& run_options,
+                            const DoeOptions& options, DoeOutcome outcome, std::ostream& out,
+                            std::ostream& log, const std::string& who) {
+  DoeConsole console(plan, options, who, log);
+  AdaptiveCampaignOutcome a;
+  try {
+    a = run_adaptive_campaign(plan, store, run_options, console, options.dry_run || options.collect);
+  } catch (...) {
+    console.finish();
+    throw;
+  }
+  console.finish();
+  for (const std::string& problem : a.problems)
+    log << "demcal doe: " << who << "warning: " << problem << "; the run was redone\n";
+  outcome.rows = plan.rows.size();
+  outcome.runs = outcome.assigned = plan.runs.size();
+  outcome.reused = a.reused;
+  outcome.executed = a.ran.executed;
+  outcome.failed = a.ran.failed;
+  outcome.executed_hashes = a.ran.executed_hashes;
+  outcome.not_run = a.not_run;
+  const std::string name = "demcal doe: " + who + plan.study_name + ": adaptive design, ";
+  out << name << a.history.runs_done << " runs in " << a.history.batches.size() << " batches ("
+      << outcome.reused << " found in the store, " << outcome.executed << " run, " << outcome.failed
+      << " failed)\n";
+  out << name << (a.finished ? "ended: " : "not ended: ")
+      << (a.finished ? a.history.statement : a.waiting) << "\n";
+  if (options.dry_run || options.shard || options.group.rank != 0) return outcome;
+  std::filesystem::create_directories(outcome.study_dir);
+  remove_stale_temporaries(outcome.study_dir);
+  const DoeTable table = write_doe_table(plan, store, outcome.study_dir);
+  outcome.missing = table.missing;
+  outcome.ok = table.ok;
+  outcome.table_written = true;
+  outcome.table_csv = outcome.study_dir / "doe.csv";
+  outcome.table_json = outcome.study_dir / "doe.json";
+  write_design_history(outcome.study_dir, a);
+  out << "store: " << outcome.runs_dir.string() << "\ntable: " << outcome.table_csv.string()
+      << " (" << plan.rows.size() << " rows), history: "
+      << (outcome.study_dir / "design_history.json").string() << "\n";
+  return outcome;
+}
+
 }  // namespace
 
 Shard parse_shard(const std::string& text) {
@@ -158,6 +203,7 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
   run_options.retry_failed = options.retry_failed;
   run_options.stop_after = options.stop_after;
   run_options.cancel = options.cancel;
+  if (plan.design.adaptive) return run_adaptive_doe(plan, store, run_options, options, outcome, out, log, who);
   DesignRunner runner(plan, store, run_options, options.collect);
   const DesignShare& share = runner.share();
   const std::vector<std::size_t>& queue = share.queue;

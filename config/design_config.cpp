@@ -1,5 +1,6 @@
 #include "config/design_config.hpp"
 
+#include "config/adaptive_design_keys.hpp"
 #include "config/study_config.hpp"
 #include "surrogate/sobol_design.hpp"
 
@@ -66,13 +67,20 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
   out.line = d.line();
   surrogate::DesignSpec& spec = out.spec;
 
-  const std::string kind = d.choice("kind", surrogate::design_kind_names());
-  spec.kind = *surrogate::design_kind_from_name(kind);
+  std::vector<std::string> kinds = surrogate::design_kind_names();
+  kinds.push_back("adaptive");
+  const std::string kind = d.choice("kind", kinds);
+  const bool adaptive = kind == "adaptive";
+  // An adaptive design's points are a list the campaign grows batch by batch
+  // (study/adaptive_campaign.hpp); none is known before it runs.
+  spec.kind = adaptive ? surrogate::DesignKind::kList : *surrogate::design_kind_from_name(kind);
   const bool factorial = spec.kind == surrogate::DesignKind::kFullFactorial;
   const bool sobol = spec.kind == surrogate::DesignKind::kSobol;
   const bool list = spec.kind == surrogate::DesignKind::kList;
 
-  if (list) {
+  if (adaptive) {
+    out.adaptive = read_adaptive_design_keys(d);
+  } else if (list) {
     if (d.contains("points"))
       d.fail("points",
              "applies only to kind = \"latin_hypercube\" or \"sobol\"; a list design "
@@ -85,9 +93,11 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
   } else {
     spec.points = static_cast<std::size_t>(d.integer("points", 1, kMaxPoints));
   }
-  out.replicates = static_cast<int>(d.integer_or("replicates", 1, 1, 1000));
-  spec.seed = static_cast<std::uint64_t>(
-      d.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  if (!adaptive) {
+    out.replicates = static_cast<int>(d.integer_or("replicates", 1, 1, 1000));
+    spec.seed = static_cast<std::uint64_t>(
+        d.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  }
   if (sobol)
     spec.skip = static_cast<std::size_t>(d.integer_or("skip", 0, 0, 1000000000));
   else if (d.contains("skip"))
@@ -164,8 +174,9 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
       r.levels = static_cast<int>(t.integer("levels", 2, kMaxLevels));
       factorial_points *= r.levels;
     } else if (t.contains("levels")) {
-      t.fail("levels", "applies only to kind = \"full_factorial\"; " + kind +
-                           " designs take the number of points from design.points");
+      t.fail("levels", "applies only to kind = \"full_factorial\"; " +
+                           (adaptive ? std::string("an adaptive design chooses its points itself")
+                                     : kind + " designs take the number of points from design.points"));
     }
     t.finish();
     spec.parameters.push_back(r);
@@ -173,7 +184,7 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     out.tied_paths.push_back(std::move(tied));
     out.parameter_lines.push_back(line);
   }
-  if (list) {
+  if (list && !adaptive) {
     const toml::node* vn = dt.get("values");
     const std::size_t vline = vn ? node_line(*vn, d.line()) : d.line();
     const toml::array* rows = vn ? vn->as_array() : nullptr;
@@ -220,7 +231,7 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
                              "; use fewer levels or a latin_hypercube or sobol design");
   // Every run is planned (its study built, its key hashed) before any runs: a
   // design of 10^6 runs would take hours and gigabytes just to list.
-  {
+  if (!adaptive) {
     const double points = factorial ? factorial_points
                           : list    ? static_cast<double>(spec.values.size())
                                     : static_cast<double>(spec.points);

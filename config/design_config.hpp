@@ -5,6 +5,7 @@
 //
 //   [design]
 //   kind = "latin_hypercube"        # "full_factorial" | "latin_hypercube" | "sobol" | "list"
+//                                   #   | "adaptive" (its own keys: config/adaptive_design_keys.hpp)
 //   points = 20                     # latin_hypercube and sobol only: integer in [1, 100000]
 //   values = [[0.3, 0.52], ...]     # list only: the points, one value per parameter in the
 //                                   #   parameters' written order, each inside its bounds
@@ -34,6 +35,7 @@
 // Points of a replicate share a seed (common random numbers: the difference
 // between two points is not blurred by a different packing).
 
+#include "calibrate/adaptive_design_options.hpp"
 #include "config/toml_reader.hpp"
 #include "surrogate/design.hpp"
 
@@ -53,6 +55,9 @@ struct DesignConfig {
   std::vector<std::size_t> parameter_lines;          // where each is written, for messages
   int replicates = 1;
   std::size_t line = 0;  // of [design]
+  // kind = "adaptive": how it chooses its runs (spec.kind is then kList with no values:
+  // the campaign fills the points in, study/adaptive_campaign.hpp). Absent for the others.
+  std::optional<calibrate::AdaptiveDesignOptions> adaptive;
 };
 
 // Reads [design] if the document has one (build_study calls it; `root` is the

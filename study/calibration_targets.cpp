@@ -1,5 +1,6 @@
 #include "study/calibration_targets.hpp"
 
+#include "calibrate/scatter_budget.hpp"
 #include "config/recordings_csv.hpp"
 #include "config/toml_reader.hpp"
 
@@ -77,9 +78,7 @@ std::vector<calibrate::Target> calibration_targets(
     t.sigma_measured = r.sigma;
     // The value is a mean of r.repeats tests: its test-to-test scatter is the
     // DEM's single-run scatter over sqrt(repeats).
-    t.sigma_dem = std::isfinite(fit.scatter.sd)
-                      ? fit.scatter.sd / std::sqrt(static_cast<double>(r.repeats))
-                      : 0.0;
+    t.sigma_dem = calibrate::recording_dem_sigma(fit.scatter.sd, r.repeats);
     t.model = fit.model;
     all.push_back(t);
   }

@@ -106,6 +106,13 @@ ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
                           {"seed", run.seed},
                           {"threads_per_run", plan.threads_per_run},
                           {"parameters", values}};
+  if (plan.design.adaptive) {
+    // Which run of the design it is; a store shared with other studies keeps the first
+    // study's (the run key, the hash of the inputs, does not hold them).
+    out.record["design"]["kind"] = "adaptive";
+    if (run.batch) out.record["design"]["batch"] = *run.batch;
+    if (run.slot) out.record["design"]["slot"] = *run.slot;
+  }
   return out;
 }
 

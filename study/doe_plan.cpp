@@ -103,6 +103,10 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
     }
   }
 
+  if (plan.design.adaptive) {
+    check_design_bounds(plan.source, plan.design);
+    return plan;  // its points come batch by batch: plan_adaptive_runs
+  }
   if (plan.study_seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) -
                             static_cast<std::uint64_t>(plan.design.replicates - 1))
     throw ConfigError(plan.file + ": study.seed: " + std::to_string(plan.study_seed) +
@@ -133,12 +137,49 @@ DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::stri
       for (const std::string& a : plan.apparatus) {
         RunKey key = run_key_for(*built, a, seed, threads_per_run);
         auto [it, inserted] = run_of_digest.emplace(key.digest, plan.runs.size());
-        if (inserted) plan.runs.push_back({std::move(key), p, r, seed, a});
-        plan.rows.push_back({p, r, seed, a, it->second});
+        if (inserted) plan.runs.push_back({std::move(key), p, r, seed, a, {}, {}});
+        plan.rows.push_back({p, r, seed, a, it->second, {}, {}});
       }
     }
   }
   return plan;
+}
+
+// The top 53 bits: a study's seed must be an integer a double holds exactly (doe.csv's seed
+// column and the run key's canonical JSON are read as numbers), i.e. below 2^53.
+std::uint64_t dem_seed(std::uint64_t design_run_seed) { return design_run_seed >> 11; }
+
+void plan_adaptive_runs(DoePlan& plan, const std::vector<calibrate::RunRequest>& requests) {
+  plan.generated.points.clear();
+  plan.rows.clear();
+  plan.runs.clear();
+  std::map<std::vector<double>, std::size_t> point_of_theta;
+  std::map<std::string, std::size_t> run_of_digest;
+  std::vector<std::optional<StudyConfig>> built;
+  for (const calibrate::RunRequest& req : requests) {
+    const auto [pt, fresh] = point_of_theta.emplace(req.theta, plan.generated.points.size());
+    const std::size_t p = pt->second;
+    if (fresh) {
+      plan.generated.points.push_back(req.theta);
+      try {
+        ConfigDocument doc = plan.source.document();
+        apply_design_values(doc, plan.design, req.theta, "design point " + std::to_string(p));
+        built.emplace_back(build_study(std::move(doc)));
+      } catch (const ConfigError& e) {
+        throw ConfigError(plan.file + ":" + std::to_string(plan.design.line) + ": design: point " +
+                          std::to_string(p) + " (" + describe_point(plan, p) +
+                          ") is refused: " + without_file_prefix(e.what(), plan.file));
+      }
+    }
+    const std::uint64_t seed = dem_seed(req.seed);
+    for (const std::string& a : plan.apparatus) {
+      RunKey key = run_key_for(*built[p], a, seed, plan.threads_per_run);
+      auto [it, inserted] = run_of_digest.emplace(key.digest, plan.runs.size());
+      if (inserted)
+        plan.runs.push_back({std::move(key), p, req.replicate, seed, a, req.batch, req.slot});
+      plan.rows.push_back({p, req.replicate, seed, a, it->second, req.batch, req.slot});
+    }
+  }
 }
 
 }  // namespace demcal::study

@@ -5,6 +5,7 @@
 // Making the plan builds the study at every design point, so every input
 // problem is a ConfigError before anything runs or touches the store.
 
+#include "calibrate/adaptive_design_runs.hpp"
 #include "config/design_config.hpp"
 #include "config/toml_reader.hpp"
 #include "study/run_store.hpp"
@@ -13,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,8 @@ struct PlannedRun {
   int replicate = 0;
   std::uint64_t seed = 0;
   std::string apparatus;
+  // Adaptive designs: the design's run (batch, slot) it belongs to; absent for the others.
+  std::optional<std::size_t> batch, slot;
 };
 
 struct PlanRow {
@@ -33,6 +37,7 @@ struct PlanRow {
   std::uint64_t seed = 0;
   std::string apparatus;
   std::size_t run = 0;  // index into DoePlan::runs
+  std::optional<std::size_t> batch, slot;  // adaptive designs only
 };
 
 struct DoePlan {
@@ -53,6 +58,16 @@ struct DoePlan {
 // be defined). Throws ConfigError for any input problem.
 DoePlan plan_doe(const std::filesystem::path& study, const std::vector<std::string>& overrides,
                  const std::vector<std::string>& apparatus, int threads_per_run);
+
+// An adaptive design (design.adaptive): `plan` as plan_doe made it (no points yet) given the
+// design's requests so far, in design order: a point per distinct theta (replicates share
+// it), a row per request and apparatus, rows carrying batch and slot. The DEM seed of a
+// request is dem_seed(request.seed). Throws ConfigError when a point does not build.
+void plan_adaptive_runs(DoePlan& plan, const std::vector<calibrate::RunRequest>& requests);
+
+// The seed the DEM runs with for an adaptive design's run seed: its top 53 bits (a seed in
+// doe.csv and in the run key must be below 2^53).
+std::uint64_t dem_seed(std::uint64_t design_run_seed);
 
 // The study with run `run`'s design values, seed and threads set: what is built and run.
 config::ConfigDocument run_document(const DoePlan& plan, const PlannedRun& run);

@@ -98,6 +98,8 @@ DoeTable make_doe_table(const DoePlan& plan,
                         {"status", status},
                         {"hash", run.key.hash},
                         {"file", "runs/" + run.key.hash + ".json"}};
+    if (row.batch) j["batch"] = *row.batch;
+    if (row.slot) j["slot"] = *row.slot;
     if (status == "failed" && record->contains("results") &&
         record->at("results").contains("error"))
       j["error"] = record->at("results").at("error");
@@ -114,7 +116,8 @@ DoeTable make_doe_table(const DoePlan& plan,
     if (spec.kind == surrogate::DesignKind::kFullFactorial) p["levels"] = params[i].levels;
     parameters.push_back(std::move(p));
   }
-  nlohmann::json design = {{"kind", surrogate::design_kind_name(spec.kind)},
+  nlohmann::json design = {{"kind", plan.design.adaptive ? std::string("adaptive")
+                                                          : surrogate::design_kind_name(spec.kind)},
                            {"parameters", parameters},
                            {"points", plan.generated.points.size()},
                            {"replicates", plan.design.replicates},
@@ -122,10 +125,13 @@ DoeTable make_doe_table(const DoePlan& plan,
   if (spec.kind == surrogate::DesignKind::kLatinHypercube) design["seed"] = spec.seed;
   if (spec.kind == surrogate::DesignKind::kSobol) design["skip"] = spec.skip;
 
+  const char* seed_rule = plan.design.adaptive
+                              ? "seed = (the design's SplitMix64 seed of (batch, slot)) >> 11"
+                              : "seed = study.seed + replicate";
   table.json = {{"study", plan.study_name},
                 {"study_file", plan.file},
                 {"design", design},
-                {"seed_rule", "seed = study.seed + replicate"},
+                {"seed_rule", seed_rule},
                 {"study_seed", plan.study_seed},
                 {"threads_per_run", plan.threads_per_run},
                 {"apparatus", plan.apparatus},

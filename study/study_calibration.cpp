@@ -12,6 +12,7 @@
 #include "surrogate/surrogate_fit.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <optional>
 #include <sstream>
 
@@ -129,6 +130,20 @@ StudyCalibrationOutcome calibrate_study_recordings(const StudyCalibrationOptions
       if (!val.is_null()) s << " " << k << " = " << val.dump();
     s << " (" << v.run_record.string() << ").";
     ro.remarks.push_back(s.str());
+  }
+  // An adaptive design: what it ran, in which batch and why, and how it ended
+  // (design_history.json, written by the campaign: study/adaptive_campaign.hpp).
+  if (study.design && study.design->adaptive && fs::exists(dir / "design_history.json")) {
+    std::ifstream in(dir / "design_history.json");
+    const auto history = nlohmann::json::parse(in, nullptr, false);
+    if (history.is_object() && history.contains("text")) {
+      ro.remarks.push_back("The adaptive design (kind = \"adaptive\"; the acquisition, the batch "
+                           "rule and the stopping rule with their references: "
+                           "docs/adaptive_design.md), batch by batch:");
+      std::istringstream lines(history.at("text").get<std::string>());
+      for (std::string line; std::getline(lines, line);)
+        if (!line.empty()) ro.remarks.push_back(line);
+    }
   }
   // Written whole beside the previous report, then put in its place.
   const fs::path report_dir = dir / "reports" / "calibration";

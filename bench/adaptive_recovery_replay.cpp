@@ -1,0 +1,209 @@
+// Issue 16's proof on the lined recovery study, as a REPLAY: the "DEM" is an emulator built
+// from the 100 checked-in runs of studies/sandglass-recovery-lined (doe.csv: 5 x 5 points x 4
+// replicates): per observable the Gaussian process the grid's own calibration fits (its mean),
+// plus Gaussian noise with the grid's measured replicate scatter (pooled sd), seeded by the
+// run's seed. Where the grid's runs gave no angle (the mu_s = 0.2 row: the lined floor spread
+// the pile flat) the emulator gives none below mu_s = 0.2875 either. This is not DEM: it
+// tests the design's statistics on a response the size and shape of the real one.
+//
+// For each of 20 laboratories (recordings made as tests/unit/test_recovery_over_noise_seeds.cpp
+// makes them: the mean of ten of the 200 truth runs at (0.25, 0.45), truth_runs.csv, plus the
+// instrument's error) it calibrates (a) the 100-run grid (its real DEM runs) and (b) an
+// adaptive design with the default options run against the emulator, with the same code
+// (calibrate::calibrate_runs), and prints per laboratory runs, area ratio, truth inside,
+// mu_s identified; then the medians. Options: --truth mu_r,mu_s makes the recordings from the
+// emulator's noise-free mean there instead (a point near a bound, one where the AoR saturates),
+// --emulator-labs 1 draws each laboratory's ten tests from the emulator at the truth (so that
+// the emulator's own error at the truth, shared by all 20 laboratories, is not charged to the
+// design), --offset-aor DEG adds DEG to every recorded angle (out of the model's range).
+//
+//   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
+//                                      [--offset-aor 12]
+#include "calibrate/adaptive_design.hpp"
+#include "calibrate/calibration_problem.hpp"
+#include "calibrate/confidence_region.hpp"
+#include "calibrate/runs_calibration.hpp"
+#include "config/doe_csv.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace demcal;
+using calibrate::RunRequest;
+using calibrate::RunResult;
+
+namespace {
+
+const std::string kDir = std::string(DEMCAL_SOURCE_DIR) + "/studies/sandglass-recovery-lined/";
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<std::pair<double, double>> truth_runs() {
+  std::ifstream in(kDir + "truth_runs.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::pair<double, double>> runs;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string seed, aor, time;
+    std::getline(row, seed, ',');
+    std::getline(row, aor, ',');
+    std::getline(row, time, ',');
+    runs.emplace_back(std::stod(aor), std::stod(time));
+  }
+  return runs;
+}
+
+std::vector<calibrate::Recording> recordings(double aor, double time) {
+  calibrate::Recording a{"sandglass", "angle_of_repose_deg", aor, 0.5, 10, "deg", 0};
+  calibrate::Recording t{"sandglass", "discharge_time_s", time, 0.01 * time, 10, "s", 0};
+  return {a, t};
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? kNaN : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Judged {
+  double area = kNaN;
+  bool inside = false, mu_s_identified = false;
+};
+
+Judged judge(const calibrate::RunsCalibration& c, const std::vector<calibrate::ParameterBounds>& b,
+             const Eigen::Vector2d& truth) {
+  Judged j;
+  j.area = c.result.region.area;
+  const calibrate::CalibrationProblem problem(b, c.targets);
+  j.inside = c.result.region.available && calibrate::region_contains(problem, c.result.region, truth);
+  j.mu_s_identified = c.result.identified.size() > 1 && c.result.identified[1];
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int labs = 20;
+  bool fixed_truth = false;
+  Eigen::Vector2d truth(0.25, 0.45);
+  double offset_aor = 0.0;
+  bool emulator_labs = false;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string k = argv[i], v = argv[i + 1];
+    if (k == "--labs") labs = std::stoi(v);
+    else if (k == "--truth") {
+      fixed_truth = true;
+      truth << std::stod(v.substr(0, v.find(','))), std::stod(v.substr(v.find(',') + 1));
+    } else if (k == "--offset-aor") offset_aor = std::stod(v);
+    else if (k == "--emulator-labs") emulator_labs = v == "1";
+    else {
+      std::cerr << "unknown option " << k << "\n";
+      return 2;
+    }
+  }
+  const std::vector<calibrate::ParameterBounds> bounds{{"mu_r", 0.05, 0.6}, {"mu_s", 0.2, 0.9}};
+  const config::DoeCsv grid_csv = config::read_doe_csv(kDir + "doe.csv");
+  const int ia = grid_csv.observable_index("angle_of_repose_deg");
+  const int it = grid_csv.observable_index("discharge_time_s");
+  std::vector<RunResult> grid;
+  for (std::size_t i = 0; i < grid_csv.rows.size(); ++i) {
+    const auto& r = grid_csv.rows[i];
+    RunResult x;
+    x.request.batch = 0;
+    x.request.slot = i;
+    x.request.theta = r.parameters;
+    x.request.replicate = r.replicate;
+    x.request.seed = r.seed;
+    x.observables = {r.observables[static_cast<std::size_t>(ia)],
+                     r.observables[static_cast<std::size_t>(it)]};
+    grid.push_back(x);
+  }
+  calibrate::AdaptiveDesignOptions options;  // the defaults, as [design] kind = "adaptive"
+  // The emulator: the grid's GPs (fitted against any recordings: the fit does not use them).
+  const auto emulator = calibrate::calibrate_runs(bounds, recordings(30.0, 0.53), grid,
+                                                  options.surrogate, options.calibration);
+  const double sd_aor = emulator.surrogates[0].scatter.sd, sd_time = emulator.surrogates[1].scatter.sd;
+  std::printf("emulator: GP means of the 100-run grid; noise sd AoR %.3f deg, time %.4f s\n", sd_aor,
+              sd_time);
+  const auto mean_at = [&](const std::vector<double>& theta) {
+    Eigen::MatrixXd x(1, 2);
+    x << theta[0], theta[1];
+    return std::pair<double, double>{emulator.surrogates[0].model->predict_mean(x)(0),
+                                     emulator.surrogates[1].model->predict_mean(x)(0)};
+  };
+  const calibrate::RunEvaluator evaluate = [&](const std::vector<RunRequest>& batch) {
+    std::vector<std::vector<double>> out;
+    for (const RunRequest& r : batch) {
+      std::mt19937_64 rng(r.seed);
+      std::normal_distribution<double> unit(0.0, 1.0);
+      const auto [a, t] = mean_at(r.theta);
+      const double aor = a + sd_aor * unit(rng), time = t + sd_time * unit(rng);
+      out.push_back({r.theta[1] < 0.2875 ? kNaN : aor, time});
+    }
+    return out;
+  };
+
+  const auto truth_tests = truth_runs();
+  std::vector<double> runs, ratios;
+  int inside_a = 0, inside_g = 0, mus_a = 0, mus_g = 0;
+  std::printf("lab  runs  batches  status            area_adaptive  area_grid  ratio  inside(a/g)  mu_s id(a/g)\n");
+  for (int k = 1; k <= labs; ++k) {
+    double aor = 0.0, time = 0.0;
+    if (emulator_labs) {
+      // The laboratory's ten tests drawn from the emulator itself at the truth.
+      const auto [a, t] = mean_at({truth(0), truth(1)});
+      std::mt19937_64 lab(5000 + static_cast<std::uint64_t>(k));
+      std::normal_distribution<double> z(0.0, 1.0);
+      aor = a + sd_aor / std::sqrt(10.0) * z(lab);
+      time = t + sd_time / std::sqrt(10.0) * z(lab);
+    } else if (fixed_truth) {
+      const auto [a, t] = mean_at({truth(0), truth(1)});
+      aor = a, time = t;
+    } else {
+      for (int i = 10 * (k - 1); i < 10 * k; ++i) {
+        aor += truth_tests.at(static_cast<std::size_t>(i)).first / 10.0;
+        time += truth_tests.at(static_cast<std::size_t>(i)).second / 10.0;
+      }
+    }
+    std::mt19937_64 rng(1000 + static_cast<std::uint64_t>(k));
+    std::normal_distribution<double> unit(0.0, 1.0);
+    aor += 0.5 * unit(rng) + offset_aor;
+    time += 0.01 * time * unit(rng);
+    calibrate::AdaptiveDesignProblem problem{bounds, recordings(aor, time)};
+    calibrate::AdaptiveDesignOptions o = options;
+    o.seed = static_cast<std::uint64_t>(k);
+    const auto adaptive = calibrate::run_adaptive_design(problem, o, evaluate);
+    const auto g = calibrate::calibrate_runs(bounds, problem.recordings, grid, o.surrogate, o.calibration);
+    const Judged ja = judge(adaptive.calibration, bounds, truth), jg = judge(g, bounds, truth);
+    runs.push_back(static_cast<double>(adaptive.runs.size()));
+    ratios.push_back(ja.area / jg.area);
+    inside_a += ja.inside, inside_g += jg.inside, mus_a += ja.mu_s_identified, mus_g += jg.mu_s_identified;
+    std::printf("%3d  %4zu  %7zu  %-16s  %13.4f  %9.4f  %5.2f  %d/%d          %d/%d\n", k,
+                adaptive.runs.size(), adaptive.history.batches.size(),
+                calibrate::to_string(adaptive.history.status), ja.area, jg.area, ja.area / jg.area,
+                ja.inside, jg.inside, ja.mu_s_identified, jg.mu_s_identified);
+    if (k == 1 || adaptive.history.status != calibrate::AdaptiveDesignStatus::converged)
+      std::printf("     %s\n", adaptive.history.statement.c_str());
+    if (k == 1 && std::getenv("DEMCAL_REPLAY_HISTORY"))
+      std::printf("%s\n", adaptive.history.to_text({"mu_r", "mu_s"}).c_str());
+    std::fflush(stdout);
+  }
+  std::vector<double> sorted_runs = runs;
+  std::sort(sorted_runs.begin(), sorted_runs.end());
+  std::printf("runs per lab: median %.1f (%.0f to %.0f); area adaptive / grid: median %.3f (%.3f to %.3f)\n",
+              median(runs), sorted_runs.front(), sorted_runs.back(), median(ratios),
+              *std::min_element(ratios.begin(), ratios.end()),
+              *std::max_element(ratios.begin(), ratios.end()));
+  std::printf("truth inside: adaptive %d/%d, grid %d/%d; mu_s identified: adaptive %d/%d, grid %d/%d\n",
+              inside_a, labs, inside_g, labs, mus_a, labs, mus_g, labs);
+  return 0;
+}
