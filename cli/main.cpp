@@ -8,6 +8,7 @@
 #include "cli/fit_command.hpp"
 #include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
+#include "config/schema.hpp"
 #include "config/simulation_config.hpp"
 
 #include <unistd.h>
@@ -39,10 +40,24 @@ int guarded(const std::string& who, Body&& body) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace demcal::cli;
-  using namespace demcal::config;
-  using namespace demcal::study;
-using namespace demcal::study;
+  using demcal::cli::DiagnoseOptions;
+  using demcal::cli::DoeOptions;
+  using demcal::cli::DoeOutcome;
+  using demcal::cli::FitOptions;
+  using demcal::cli::SimulateOptions;
+  using demcal::cli::StudyOptions;
+  using demcal::cli::calibrate_study;
+  using demcal::cli::diagnose;
+  using demcal::cli::fit;
+  using demcal::cli::inspect;
+  using demcal::cli::parse_shard;
+  using demcal::cli::run_doe;
+  using demcal::cli::run_study;
+  using demcal::cli::simulate;
+  using demcal::config::schema_text;
+  using demcal::study::MpiSession;
+  using demcal::study::engine_version;
+  namespace reader = demcal::config::reader;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
   app.set_version_flag("--version", "demcal " + engine_version());
   app.require_subcommand(1);
@@ -179,6 +194,13 @@ using namespace demcal::study;
                            std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
 
+  std::string schema_name;
+  CLI::App* schema_cmd = app.add_subcommand(
+      "schema", "Print every registered key (contact parts, diagnosis candidates) with its unit, "
+                "default and range");
+  schema_cmd->add_option("name", schema_name, "Only this entry: a part (liquid_bridge), a role "
+                                              "(contact.adhesion), contact, candidates");
+
   // A misspelt subcommand ("simulat") is named, with the closest one, rather
   // than reported as a missing subcommand.
   if (argc > 1 && argv[1][0] != '-') {
@@ -272,6 +294,7 @@ using namespace demcal::study;
   }
 
   return guarded("", [&] {
+    if (*schema_cmd) std::cout << schema_text(schema_name);
     if (*simulate_cmd) {
       sim_opts.config = config;
       if (!output.empty()) sim_opts.output_dir = output;
