@@ -24,6 +24,7 @@
 
 #include "dem/contact/hertz_normal.hpp"
 #include "dem/contact/jkr_adhesion.hpp"
+#include "dem/contact/liquid_bridge.hpp"
 #include "dem/contact/mindlin_tangential.hpp"
 #include "dem/contact/no_adhesion.hpp"
 #include "dem/contact/part_parameter.hpp"
@@ -39,7 +40,7 @@ namespace demcal::dem {
 
 // The registry: one line per role. Names come from each part's kName.
 using NormalPart = std::variant<HertzNormal>;
-using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion>;
+using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion, LiquidBridge>;
 using TangentialPart = std::variant<MindlinTangential, NoTangential>;
 using RollingPart = std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot, NoRolling>;
 
