@@ -18,8 +18,23 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
+using demcal::config::ConfigDocument;
+using demcal::config::StudyApparatus;
+using demcal::config::StudyConfig;
+using demcal::config::apply_override;
+using demcal::config::build_study;
+using demcal::config::output_directory;
+using demcal::config::select_apparatus;
+using demcal::config::set_config_value;
+using demcal::config::study_override_aliases;
+using demcal::config::with_stable_observables;
+using demcal::study::RunResults;
+using demcal::study::make_apparatus_run_record;
+using demcal::study::open_vtk_series;
+using demcal::study::prepare_output_directory;
+using demcal::study::run_record_path;
+using demcal::study::write_failed_run_record;
+using demcal::study::write_run_record;
 namespace {
 
 using Clock = std::chrono::steady_clock;

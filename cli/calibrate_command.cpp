@@ -16,8 +16,12 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
+using demcal::config::StudyConfig;
+using demcal::config::load_study_config;
+using demcal::config::sha256_hex;
+using demcal::study::StageCache;
+using demcal::study::directory_digest;
+using demcal::study::study_directory;
 namespace {
 
 namespace fs = std::filesystem;

@@ -17,8 +17,22 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
+using demcal::config::ConfigDocument;
+using demcal::config::ConfigError;
+using demcal::config::RunControl;
+using demcal::config::SimulationConfig;
+using demcal::config::apply_override;
+using demcal::config::build_simulation;
+using demcal::config::is_study_config;
+using demcal::config::read_config_file;
+using demcal::config::set_config_value;
+using demcal::study::RunResults;
+using demcal::study::make_run_record;
+using demcal::study::open_vtk_series;
+using demcal::study::prepare_output_directory;
+using demcal::study::run_record_path;
+using demcal::study::write_failed_run_record;
+using demcal::study::write_run_record;
 namespace {
 
 using Clock = std::chrono::steady_clock;
