@@ -40,29 +40,14 @@ int guarded(const std::string& who, Body&& body) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  using demcal::cli::DiagnoseOptions;
-  using demcal::cli::DoeOptions;
-  using demcal::cli::DoeOutcome;
-  using demcal::cli::FitOptions;
-  using demcal::cli::SimulateOptions;
-  using demcal::cli::StudyOptions;
-  using demcal::cli::calibrate_study;
-  using demcal::cli::diagnose;
-  using demcal::cli::fit;
-  using demcal::cli::inspect;
-  using demcal::cli::parse_shard;
-  using demcal::cli::run_doe;
-  using demcal::cli::run_study;
-  using demcal::cli::simulate;
-  using demcal::config::schema_text;
-  using demcal::study::MpiSession;
-  using demcal::study::engine_version;
+  namespace cli = demcal::cli;
+  namespace study = demcal::study;
   namespace reader = demcal::config::reader;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
-  app.set_version_flag("--version", "demcal " + engine_version());
+  app.set_version_flag("--version", "demcal " + study::engine_version());
   app.require_subcommand(1);
 
-  SimulateOptions sim_opts;
+  cli::SimulateOptions sim_opts;
   std::string config;
   std::string output;
   std::string apparatus;
@@ -92,7 +77,7 @@ int main(int argc, char** argv) {
   simulate_cmd->add_flag("--quiet,-q", sim_opts.quiet,
                          "No progress or summary; only the output paths and errors");
 
-  DoeOptions doe_opts;
+  cli::DoeOptions doe_opts;
   std::string doe_shard;
   std::size_t doe_stop_after = 0;
   CLI::App* doe_cmd = app.add_subcommand(
@@ -137,7 +122,7 @@ int main(int argc, char** argv) {
   // For testing resumption: stop as if killed after storing N runs.
   doe_cmd->add_option("--stop-after", doe_stop_after)->group("")->check(CLI::Range(1, 1 << 30));
 
-  FitOptions fit_opts;
+  cli::FitOptions fit_opts;
   std::string fit_doe;
   const auto add_fit_options = [&](CLI::App* cmd) {
     cmd->add_option("study", fit_opts.study, "The study config, with [design] and [surrogate] tables (TOML)")
@@ -167,7 +152,7 @@ int main(int argc, char** argv) {
       "<output>/<study>/reports/calibration/index.html");
   add_fit_options(calibrate_cmd);
 
-  StudyOptions study_opts;
+  cli::StudyOptions study_opts;
   CLI::App* study_cmd = app.add_subcommand(
       "study",
       "The whole pipeline: doe, fit, inspect, calibrate; resumable, each stage skipped when its inputs "
@@ -180,7 +165,7 @@ int main(int argc, char** argv) {
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
   study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
 
-  DiagnoseOptions diag_opts;
+  cli::DiagnoseOptions diag_opts;
   CLI::App* diagnose_cmd = app.add_subcommand(
       "diagnose",
       "When the base model does not reproduce the recordings: locate the mismatch, name the physics left "
@@ -243,35 +228,35 @@ int main(int argc, char** argv) {
   if (*study_cmd)
     return guarded("", [&] {
       study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
-      return run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
+      return cli::run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
 
   if (*diagnose_cmd)
-    return guarded("", [&] { return diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
+    return guarded("", [&] { return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
 
   if (*fit_cmd || *inspect_cmd || *calibrate_cmd)
     return guarded("", [&] {
       if (!fit_doe.empty()) fit_opts.doe_csv = fit_doe;
       if (*fit_cmd)
-        fit(fit_opts, std::cout, std::cerr);
+        cli::fit(fit_opts, std::cout, std::cerr);
       else if (*inspect_cmd)
-        inspect(fit_opts, std::cout, std::cerr);
+        cli::inspect(fit_opts, std::cout, std::cerr);
       else
-        calibrate_study(fit_opts, std::cout, std::cerr);
+        cli::calibrate_study(fit_opts, std::cout, std::cerr);
       return 0;
     });
 
   if (*doe_cmd) {
     // The MPI session (if any) ends before main returns, whatever happens.
-    MpiSession mpi;
+    study::MpiSession mpi;
     const int rank = mpi.group().rank;
     const std::string who = mpi.group().size > 1 ? "rank " + std::to_string(rank) + ": " : "";
     return guarded(who, [&] {
-      if (!doe_shard.empty()) doe_opts.shard = parse_shard(doe_shard);
+      if (!doe_shard.empty()) doe_opts.shard = cli::parse_shard(doe_shard);
       if (doe_stop_after > 0) doe_opts.stop_after = doe_stop_after;
       doe_opts.group = mpi.group();
       doe_opts.progress = !doe_opts.quiet && mpi.group().size == 1 && isatty(fileno(stderr)) != 0;
-      const DoeOutcome r = run_doe(doe_opts, std::cout, std::cerr);
+      const cli::DoeOutcome r = cli::run_doe(doe_opts, std::cout, std::cerr);
       if (doe_opts.dry_run) return 0;
       if (r.not_run > 0) {
         std::cerr << "demcal doe: " << who << r.not_run
@@ -294,14 +279,14 @@ int main(int argc, char** argv) {
   }
 
   return guarded("", [&] {
-    if (*schema_cmd) std::cout << schema_text(schema_name);
+    if (*schema_cmd) std::cout << demcal::config::schema_text(schema_name);
     if (*simulate_cmd) {
       sim_opts.config = config;
       if (!output.empty()) sim_opts.output_dir = output;
       if (threads > 0) sim_opts.threads = threads;
       if (!apparatus.empty()) sim_opts.apparatus = apparatus;
       sim_opts.progress = !sim_opts.quiet && isatty(fileno(stderr)) != 0;
-      simulate(sim_opts, std::cout, std::cerr);
+      cli::simulate(sim_opts, std::cout, std::cerr);
     }
     return 0;
   });
