@@ -18,8 +18,6 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -52,19 +50,19 @@ std::string observable_text(const nlohmann::json& v) {
 
 }  // namespace
 
-SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocument&& doc,
+SimulateOutcome simulate_apparatus(const SimulateOptions& options, config::ConfigDocument&& doc,
                                    std::ostream& out, std::ostream& progress_stream) {
-  for (const auto& o : options.overrides) apply_override(doc, o, study_override_aliases());
+  for (const auto& o : options.overrides) config::apply_override(doc, o, config::study_override_aliases());
   if (options.output_dir)
-    set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
+    config::set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
                      "--output " + *options.output_dir);
   if (options.threads)
-    set_config_value(doc, "study.threads", toml::value<std::int64_t>(*options.threads),
+    config::set_config_value(doc, "study.threads", toml::value<std::int64_t>(*options.threads),
                      "--threads " + std::to_string(*options.threads));
-  StudyConfig study = build_study(std::move(doc));
-  StudyApparatus& chosen = select_apparatus(study, options.apparatus);
-  const std::filesystem::path dir = output_directory(study, chosen.name);
-  prepare_output_directory(dir, options.overwrite);
+  config::StudyConfig study = config::build_study(std::move(doc));
+  config::StudyApparatus& chosen = config::select_apparatus(study, options.apparatus);
+  const std::filesystem::path dir = config::output_directory(study, chosen.name);
+  study::prepare_output_directory(dir, options.overwrite);
 
   dem::Apparatus& apparatus = *chosen.apparatus;
   const dem::Simulation& sim = apparatus.simulation();
@@ -72,9 +70,9 @@ SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocumen
   omp_set_num_threads(study.protocol.threads);
 
   SimulateOutcome outcome;
-  outcome.run_record = run_record_path(dir);
-  RunResults& res = outcome.results;
-  std::unique_ptr<dem::VtkSeries> vtk = open_vtk_series(dir, study.output.vtk, res);
+  outcome.run_record = study::run_record_path(dir);
+  study::RunResults& res = outcome.results;
+  std::unique_ptr<dem::VtkSeries> vtk = study::open_vtk_series(dir, study.output.vtk, res);
   const double snap_dt = study.output.snapshot_interval_s;
   ProgressLine progress(progress_stream, options.progress);
 
@@ -121,7 +119,7 @@ SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocumen
     // The record of a failed run is still evidence; a failure to write it must
     // not hide the original error.
     try {
-      write_failed_run_record(dir, make_apparatus_run_record(study, chosen, res, nullptr));
+      study::write_failed_run_record(dir, study::make_apparatus_run_record(study, chosen, res, nullptr));
     } catch (const std::exception&) {
     }
     throw;
@@ -133,8 +131,8 @@ SimulateOutcome simulate_apparatus(const SimulateOptions& options, ConfigDocumen
   res.wall_time_s = seconds_since(start);
   res.time_step_s = time_step();
   res.snapshots = vtk ? vtk->snapshots() : 0;
-  write_run_record(dir, make_apparatus_run_record(study, chosen, res, &result));
-  outcome.observables = with_stable_observables(result.observables);
+  study::write_run_record(dir, study::make_apparatus_run_record(study, chosen, res, &result));
+  outcome.observables = config::with_stable_observables(result.observables);
 
   if (!options.quiet) {
     const double rate = res.wall_time_s > 0.0 ? sim.particle_steps() / res.wall_time_s : 0.0;

@@ -16,8 +16,6 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
 namespace {
 
 namespace fs = std::filesystem;
@@ -87,9 +85,9 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
         << " runs are not done; run the same command again\n";
     return {};
   }
-  StudyConfig study = load_study_config(o.doe.study, o.doe.overrides);
-  const fs::path dir = study_directory(o.doe.output_dir, study.name);
-  StageCache stages(dir / "stages.json");
+  config::StudyConfig study = config::load_study_config(o.doe.study, o.doe.overrides);
+  const fs::path dir = study::study_directory(o.doe.output_dir, study.name);
+  study::StageCache stages(dir / "stages.json");
   FitOptions fo;
   fo.study = o.doe.study;
   fo.overrides = o.doe.overrides;
@@ -97,7 +95,7 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
   fo.quiet = o.doe.quiet;
   const std::string doe_csv = slurp(dir / "doe.csv");
   const std::string fit_digest =
-      sha256_hex(doe_csv + "\n" + table_text(study.resolved, "surrogate") +
+      config::sha256_hex(doe_csv + "\n" + table_text(study.resolved, "surrogate") +
                  table_text(study.resolved, "design"));
   const fs::path surrogates = dir / "surrogates";
   if (o.force || !stages.current("fit", fit_digest, surrogates)) {
@@ -109,8 +107,8 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
     log << "fit: up to date (doe.csv, [surrogate] and the surrogate files unchanged)\n";
   }
   // The later stages read the surrogate files: their digest is part of their inputs.
-  const std::string surrogates_digest = directory_digest(surrogates);
-  const std::string inspect_digest = sha256_hex(fit_digest + surrogates_digest);
+  const std::string surrogates_digest = study::directory_digest(surrogates);
+  const std::string inspect_digest = config::sha256_hex(fit_digest + surrogates_digest);
   const fs::path inspection = dir / "reports" / "inspection" / "index.html";
   if (o.force || !stages.current("inspect", inspect_digest, inspection.parent_path()) ||
       !fs::exists(inspection)) {
@@ -122,7 +120,7 @@ fs::path run_study(const StudyOptions& o, std::ostream& out, std::ostream& log) 
   }
   if (!study.calibration) return inspection;
   const std::string cal_digest =
-      sha256_hex(fit_digest + surrogates_digest + table_text(study.resolved, "calibration") +
+      config::sha256_hex(fit_digest + surrogates_digest + table_text(study.resolved, "calibration") +
                  slurp(study.calibration->recordings));
   const fs::path report = dir / "reports" / "calibration" / "index.html";
   if (o.force || !stages.current("calibrate", cal_digest, report.parent_path()) ||

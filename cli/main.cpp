@@ -8,6 +8,7 @@
 #include "cli/fit_command.hpp"
 #include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
+#include "config/schema.hpp"
 #include "config/simulation_config.hpp"
 
 #include <unistd.h>
@@ -39,15 +40,14 @@ int guarded(const std::string& who, Body&& body) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace demcal::cli;
-  using namespace demcal::config;
-  using namespace demcal::study;
-using namespace demcal::study;
+  namespace cli = demcal::cli;
+  namespace study = demcal::study;
+  namespace reader = demcal::config::reader;
   CLI::App app{"demcal: discrete element simulations and their calibration"};
-  app.set_version_flag("--version", "demcal " + engine_version());
+  app.set_version_flag("--version", "demcal " + study::engine_version());
   app.require_subcommand(1);
 
-  SimulateOptions sim_opts;
+  cli::SimulateOptions sim_opts;
   std::string config;
   std::string output;
   std::string apparatus;
@@ -77,7 +77,7 @@ using namespace demcal::study;
   simulate_cmd->add_flag("--quiet,-q", sim_opts.quiet,
                          "No progress or summary; only the output paths and errors");
 
-  DoeOptions doe_opts;
+  cli::DoeOptions doe_opts;
   std::string doe_shard;
   std::size_t doe_stop_after = 0;
   CLI::App* doe_cmd = app.add_subcommand(
@@ -122,7 +122,7 @@ using namespace demcal::study;
   // For testing resumption: stop as if killed after storing N runs.
   doe_cmd->add_option("--stop-after", doe_stop_after)->group("")->check(CLI::Range(1, 1 << 30));
 
-  FitOptions fit_opts;
+  cli::FitOptions fit_opts;
   std::string fit_doe;
   const auto add_fit_options = [&](CLI::App* cmd) {
     cmd->add_option("study", fit_opts.study, "The study config, with [design] and [surrogate] tables (TOML)")
@@ -152,7 +152,7 @@ using namespace demcal::study;
       "<output>/<study>/reports/calibration/index.html");
   add_fit_options(calibrate_cmd);
 
-  StudyOptions study_opts;
+  cli::StudyOptions study_opts;
   CLI::App* study_cmd = app.add_subcommand(
       "study",
       "The whole pipeline: doe, fit, inspect, calibrate; resumable, each stage skipped when its inputs "
@@ -165,7 +165,7 @@ using namespace demcal::study;
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
   study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
 
-  DiagnoseOptions diag_opts;
+  cli::DiagnoseOptions diag_opts;
   CLI::App* diagnose_cmd = app.add_subcommand(
       "diagnose",
       "When the base model does not reproduce the recordings: locate the mismatch, name the physics left "
@@ -178,6 +178,13 @@ using namespace demcal::study;
   diagnose_cmd->add_option("--run-store", diag_opts.run_store,
                            std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
+
+  std::string schema_name;
+  CLI::App* schema_cmd = app.add_subcommand(
+      "schema", "Print every registered key (contact parts, diagnosis candidates) with its unit, "
+                "default and range");
+  schema_cmd->add_option("name", schema_name, "Only this entry: a part (liquid_bridge), a role "
+                                              "(contact.adhesion), contact, candidates");
 
   // A misspelt subcommand ("simulat") is named, with the closest one, rather
   // than reported as a missing subcommand.
@@ -221,35 +228,35 @@ using namespace demcal::study;
   if (*study_cmd)
     return guarded("", [&] {
       study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
-      return run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
+      return cli::run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
 
   if (*diagnose_cmd)
-    return guarded("", [&] { return diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
+    return guarded("", [&] { return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
 
   if (*fit_cmd || *inspect_cmd || *calibrate_cmd)
     return guarded("", [&] {
       if (!fit_doe.empty()) fit_opts.doe_csv = fit_doe;
       if (*fit_cmd)
-        fit(fit_opts, std::cout, std::cerr);
+        cli::fit(fit_opts, std::cout, std::cerr);
       else if (*inspect_cmd)
-        inspect(fit_opts, std::cout, std::cerr);
+        cli::inspect(fit_opts, std::cout, std::cerr);
       else
-        calibrate_study(fit_opts, std::cout, std::cerr);
+        cli::calibrate_study(fit_opts, std::cout, std::cerr);
       return 0;
     });
 
   if (*doe_cmd) {
     // The MPI session (if any) ends before main returns, whatever happens.
-    MpiSession mpi;
+    study::MpiSession mpi;
     const int rank = mpi.group().rank;
     const std::string who = mpi.group().size > 1 ? "rank " + std::to_string(rank) + ": " : "";
     return guarded(who, [&] {
-      if (!doe_shard.empty()) doe_opts.shard = parse_shard(doe_shard);
+      if (!doe_shard.empty()) doe_opts.shard = cli::parse_shard(doe_shard);
       if (doe_stop_after > 0) doe_opts.stop_after = doe_stop_after;
       doe_opts.group = mpi.group();
       doe_opts.progress = !doe_opts.quiet && mpi.group().size == 1 && isatty(fileno(stderr)) != 0;
-      const DoeOutcome r = run_doe(doe_opts, std::cout, std::cerr);
+      const cli::DoeOutcome r = cli::run_doe(doe_opts, std::cout, std::cerr);
       if (doe_opts.dry_run) return 0;
       if (r.not_run > 0) {
         std::cerr << "demcal doe: " << who << r.not_run
@@ -272,13 +279,14 @@ using namespace demcal::study;
   }
 
   return guarded("", [&] {
+    if (*schema_cmd) std::cout << demcal::config::schema_text(schema_name);
     if (*simulate_cmd) {
       sim_opts.config = config;
       if (!output.empty()) sim_opts.output_dir = output;
       if (threads > 0) sim_opts.threads = threads;
       if (!apparatus.empty()) sim_opts.apparatus = apparatus;
       sim_opts.progress = !sim_opts.quiet && isatty(fileno(stderr)) != 0;
-      simulate(sim_opts, std::cout, std::cerr);
+      cli::simulate(sim_opts, std::cout, std::cerr);
     }
     return 0;
   });

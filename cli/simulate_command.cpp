@@ -17,8 +17,6 @@
 
 namespace demcal::cli {
 
-using namespace demcal::config;
-using namespace demcal::study;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -82,36 +80,36 @@ void ProgressLine::finish() {
 
 SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
                          std::ostream& progress_stream) {
-  ConfigDocument doc = read_config_file(options.config);
-  if (is_study_config(doc)) return simulate_apparatus(options, std::move(doc), out, progress_stream);
+  config::ConfigDocument doc = config::read_config_file(options.config);
+  if (config::is_study_config(doc)) return simulate_apparatus(options, std::move(doc), out, progress_stream);
   if (options.apparatus)
-    throw ConfigError(doc.file + ": --apparatus " + *options.apparatus +
+    throw config::ConfigError(doc.file + ": --apparatus " + *options.apparatus +
                       ": applies only to study configs (with [apparatus.*] tables); this is a "
                       "simulation config");
-  for (const auto& o : options.overrides) apply_override(doc, o);
+  for (const auto& o : options.overrides) config::apply_override(doc, o);
   if (options.output_dir)
-    set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
+    config::set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
                      "--output " + *options.output_dir);
   if (options.threads)
-    set_config_value(doc, "simulation.threads", toml::value<std::int64_t>(*options.threads),
+    config::set_config_value(doc, "simulation.threads", toml::value<std::int64_t>(*options.threads),
                      "--threads " + std::to_string(*options.threads));
-  SimulationConfig cfg = build_simulation(std::move(doc));
+  config::SimulationConfig cfg = config::build_simulation(std::move(doc));
   const std::filesystem::path dir = cfg.output.directory;
-  prepare_output_directory(dir, options.overwrite);
+  study::prepare_output_directory(dir, options.overwrite);
 
   dem::Simulation& sim = *cfg.simulation;
   // The configured thread count also becomes OpenMP's default, so a parallel
   // region without its own num_threads cannot start (and spin) more threads
   // than the user allowed.
   omp_set_num_threads(sim.options().threads);
-  const RunControl& rc = cfg.run;
+  const config::RunControl& rc = cfg.run;
   const double snap_dt = cfg.output.snapshot_interval_s;
   constexpr double kNever = std::numeric_limits<double>::infinity();
 
   SimulateOutcome outcome;
-  outcome.run_record = run_record_path(dir);
-  RunResults& res = outcome.results;
-  std::unique_ptr<dem::VtkSeries> vtk = open_vtk_series(dir, cfg.output.vtk, res);
+  outcome.run_record = study::run_record_path(dir);
+  study::RunResults& res = outcome.results;
+  std::unique_ptr<dem::VtkSeries> vtk = study::open_vtk_series(dir, cfg.output.vtk, res);
   const Clock::time_point start = Clock::now();
   ProgressLine progress(progress_stream, options.progress);
   try {
@@ -157,14 +155,14 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
     // The record of a failed run is still evidence; a failure to write it must
     // not hide the original error.
     try {
-      write_failed_run_record(dir, make_run_record(cfg, res));
+      study::write_failed_run_record(dir, study::make_run_record(cfg, res));
     } catch (const std::exception&) {
     }
     throw;
   }
   res.wall_time_s = seconds_since(start);
   res.snapshots = vtk ? vtk->snapshots() : 0;
-  write_run_record(dir, make_run_record(cfg, res));
+  study::write_run_record(dir, study::make_run_record(cfg, res));
 
   if (!options.quiet) {
     const double rate = res.wall_time_s > 0.0 ? sim.particle_steps() / res.wall_time_s : 0.0;

@@ -48,6 +48,21 @@ const std::vector<PhysicsCandidate>& physics_candidates() {
        0.0,
        0.6,
        0.0},  // probe: set from the study's value
+      // Moisture: pendular liquid bridges (dem/contact/liquid_bridge.hpp) of the
+      // default volume (1e-3 of a grain) and a wetting liquid, with surface
+      // tension as the strength. F(0) = 2 pi R gamma is one weight of a 0.45 mm
+      // quartz grain at gamma ~ 1e-3 N/m; 5e-3 is a visibly damp sand (water's
+      // 0.072 would be a wet, moulded one, far outside a dry-sand calibration).
+      {"moisture",
+       "moisture (capillary liquid bridges between grains and with the walls, Willett 2000)",
+       "surface_tension_n_m",
+       {"interaction.particle_particle.surface_tension_n_m",
+        "interaction.particle_wall.surface_tension_n_m"},
+       {{"contact.adhesion", "liquid_bridge"}},
+       0.0,
+       0.0,
+       5.0e-3,
+       2.0e-3}
   };
   return all;
 }

@@ -21,7 +21,28 @@
 
 namespace demcal::config {
 
-using namespace reader;
+using demcal::config::reader::Context;
+using demcal::config::reader::InteractionKeys;
+using demcal::config::reader::Table;
+using demcal::config::reader::Vec3;
+using demcal::config::reader::above;
+using demcal::config::reader::any_number;
+using demcal::config::reader::at_least;
+using demcal::config::reader::between;
+using demcal::config::reader::check_part_parameters;
+using demcal::config::reader::format_number;
+using demcal::config::reader::guarded;
+using demcal::config::reader::node_line;
+using demcal::config::reader::quoted_list;
+using demcal::config::reader::read_air;
+using demcal::config::reader::read_contact;
+using demcal::config::reader::read_interaction;
+using demcal::config::reader::read_material_properties;
+using demcal::config::reader::read_restitution_model;
+using demcal::config::reader::read_run_name;
+using demcal::config::reader::read_size;
+using demcal::config::reader::require_above;
+using demcal::config::reader::vec_text;
 
 namespace {
 
@@ -187,7 +208,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   // [[interaction]]
   std::vector<Table> int_ts = root.tables("interaction", true);
   std::map<std::pair<int, int>, std::size_t> given;  // pair -> line
-  std::vector<SurfaceEnergyKey> surface_energies;
+  std::vector<InteractionKeys> part_keys;
   for (Table& t : int_ts) {
     const auto [na, nb] = t.string_pair("materials");
     const int a = material(t, "materials", na);
@@ -200,9 +221,9 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
     const dem::InteractionParameters p = read_interaction(t);
     t.finish();
     guarded(t, [&] { sim->set_interaction(a, b, p); });
-    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
+    part_keys.push_back({&t, p});
   }
-  check_surface_energies(con_t, sim->options().contact.adhesion, surface_energies);
+  check_part_parameters(con_t, sim->options().contact, part_keys);
 
   // [air]: absent means no drag, and is not written in.
   if (root.has("air")) {

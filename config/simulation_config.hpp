@@ -50,6 +50,10 @@
 //   rolling_damping_ratio = 0.3           # opt, >= 0
 //   surface_energy_j_m2 = 0.0             # opt, >= 0: JKR surface energy gamma of each surface
 //                                         #   (pull-off 3 pi gamma R*); not written in when absent
+//   <a contact part's own keys>           # opt: each part declares its keys, units, ranges and
+//                                         #   defaults (dem/contact/part_parameter.hpp); they are
+//                                         #   not written in when absent, refused unless their
+//                                         #   part is in [contact]; list: `demcal schema contact`
 //
 //   [air]                                 # opt; absent = no air (not written in)
 //   drag = "none"                         # opt, "none" | "schiller_naumann" (dem/air_drag.hpp):

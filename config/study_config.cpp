@@ -18,7 +18,27 @@
 
 namespace demcal::config {
 
-using namespace reader;
+using demcal::config::reader::Context;
+using demcal::config::reader::InteractionKeys;
+using demcal::config::reader::Plausible;
+using demcal::config::reader::Range;
+using demcal::config::reader::Table;
+using demcal::config::reader::above;
+using demcal::config::reader::at_least;
+using demcal::config::reader::between;
+using demcal::config::reader::check_part_parameters;
+using demcal::config::reader::format_number;
+using demcal::config::reader::guarded;
+using demcal::config::reader::node_line;
+using demcal::config::reader::quoted_list;
+using demcal::config::reader::read_air;
+using demcal::config::reader::read_contact;
+using demcal::config::reader::read_interaction;
+using demcal::config::reader::read_interaction_over;
+using demcal::config::reader::read_material_properties;
+using demcal::config::reader::read_restitution_model;
+using demcal::config::reader::read_run_name;
+using demcal::config::reader::read_size;
 
 namespace {
 
@@ -269,10 +289,10 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // [interaction.particle_particle], [interaction.particle_wall]
   Table int_t = root.table("interaction");
   std::vector<Table> pair_ts;
-  std::vector<SurfaceEnergyKey> surface_energies;
+  std::vector<InteractionKeys> part_keys;
   std::vector<std::pair<std::string, Table>>
       wall_group_tables;  // checked once the apparatus are known
-  pair_ts.reserve(2);     // surface_energies points into it
+  pair_ts.reserve(2);     // part_keys points into it
   for (const char* pair : {"particle_particle", "particle_wall"}) {
     Table& t = pair_ts.emplace_back(int_t.table(pair));
     const dem::InteractionParameters p = read_interaction(t);
@@ -303,10 +323,10 @@ StudyConfig build_study(ConfigDocument&& doc) {
     check(t, p);
     (std::string(pair) == "particle_particle" ? material.particle_particle
                                               : material.particle_wall) = p;
-    if (t.contains("surface_energy_j_m2")) surface_energies.push_back({&t, p.surface_energy_j_m2});
+    part_keys.push_back({&t, p});
   }
   int_t.finish();
-  check_surface_energies(con_t, material.contact.adhesion, surface_energies);
+  check_part_parameters(con_t, material.contact, part_keys);
 
   // [air]: absent means no drag, and is not written in (the runs of studies
   // without it resolve, and hash, as before it existed).

@@ -198,10 +198,22 @@ dem::InteractionParameters read_interaction(Table& t) {
   p.rolling_friction = t.number_at_most("rolling_friction", at_least(0), kMaxFriction);
   p.rolling_stiffness_factor = t.number_or("rolling_stiffness_factor", 2.25, above(0));
   p.rolling_damping_ratio = t.number_or("rolling_damping_ratio", 0.3, at_least(0));
-  // Not written in when absent: configs without adhesion resolve (and hash) as before.
-  if (t.has("surface_energy_j_m2"))
-    p.surface_energy_j_m2 = t.number("surface_energy_j_m2", at_least(0));
+  read_part_parameters(t, p);
   return p;
+}
+
+Range declared_range(const dem::PartParameter& d) { return {d.lo, d.hi, d.lo_open, d.hi_open}; }
+
+void read_part_parameters(Table& t, dem::InteractionParameters& p) {
+  // Declared "not written when absent" (all so far): configs without the part
+  // resolve, and hash, as before it existed.
+  for (const dem::RegisteredPartParameter& r : dem::registered_part_parameters()) {
+    const dem::PartParameter& d = r.parameter;
+    if (d.written_when_absent)
+      d.value_in(p) = t.number_or(d.key, d.default_value, declared_range(d));
+    else if (t.has(d.key))
+      d.value_in(p) = t.number(d.key, declared_range(d));
+  }
 }
 
 dem::InteractionParameters read_interaction_over(Table& t, const dem::InteractionParameters& base) {
@@ -215,8 +227,9 @@ dem::InteractionParameters read_interaction_over(Table& t, const dem::Interactio
     p.rolling_stiffness_factor = t.number("rolling_stiffness_factor", above(0));
   if (t.has("rolling_damping_ratio"))
     p.rolling_damping_ratio = t.number("rolling_damping_ratio", at_least(0));
-  if (t.has("surface_energy_j_m2"))
-    p.surface_energy_j_m2 = t.number("surface_energy_j_m2", at_least(0));
+  for (const dem::RegisteredPartParameter& r : dem::registered_part_parameters())
+    if (t.has(r.parameter.key))
+      r.parameter.value_in(p) = t.number(r.parameter.key, declared_range(r.parameter));
   return p;
 }
 
@@ -236,23 +249,39 @@ std::optional<dem::AirProperties> read_air(Table& t) {
   return air;
 }
 
-void check_surface_energies(Table& contact, const std::string& adhesion,
-                            const std::vector<SurfaceEnergyKey>& given) {
-  if (adhesion == "none") {
-    for (const SurfaceEnergyKey& g : given)
-      if (g.value_j_m2 > 0.0)
-        g.table->fail("surface_energy_j_m2",
-                      "is " + format_number(g.value_j_m2) +
-                          " J/m^2 but contact.adhesion is \"none\": a surface energy acts only "
-                          "through an adhesion part; set contact.adhesion = \"jkr\" or remove "
-                          "this key");
-    return;
+const std::string& part_in_role(const dem::ContactLawSpec& law, const std::string& role) {
+  if (role == "normal") return law.normal;
+  if (role == "adhesion") return law.adhesion;
+  if (role == "tangential") return law.tangential;
+  return law.rolling;
+}
+
+void check_part_parameters(Table& contact, const dem::ContactLawSpec& law,
+                           const std::vector<InteractionKeys>& given) {
+  for (const dem::RegisteredPartParameter& r : dem::registered_part_parameters()) {
+    const dem::PartParameter& d = r.parameter;
+    const std::string& selected = part_in_role(law, r.role);
+    if (selected != r.part) {
+      // A value the part would act on, with the part not in the law: refused
+      // (it would be ignored); its default (0 for a strength) is accepted, so
+      // that a design can reach the "off" end.
+      for (const InteractionKeys& g : given)
+        if (g.table->contains(d.key) && d.value_in(g.values) != d.default_value)
+          g.table->fail(d.key, "is " + format_number(d.value_in(g.values)) + " " + d.unit +
+                                   " but contact." + r.role + " is \"" + selected + "\": " +
+                                   d.what + " acts only through the " + r.role + " part \"" +
+                                   r.part + "\"; set contact." + r.role + " = \"" + r.part +
+                                   "\" or remove this key");
+      continue;
+    }
+    if (!d.required) continue;
+    const bool found = std::any_of(given.begin(), given.end(),
+                                   [&](const InteractionKeys& g) { return g.table->contains(d.key); });
+    if (!found)
+      contact.fail(r.role, "\"" + r.part + "\" needs " + d.what + " it acts with: give " + d.key +
+                               " (" + d.unit + ", " + dem::part_parameter_range_text(d) +
+                               ") in the particle-particle and/or the particle-wall interaction");
   }
-  if (given.empty())
-    contact.fail("adhesion",
-                 "\"" + adhesion +
-                     "\" needs the surface energy it acts with: give surface_energy_j_m2 (J/m^2, "
-                     ">= 0) in the particle-particle and/or the particle-wall interaction");
 }
 
 dem::ContactLawSpec read_contact(Table& t) {
@@ -285,7 +314,37 @@ dem::RestitutionModel read_restitution_model(Table& t) {
 
 }  // namespace reader
 
-using namespace reader;
+using demcal::config::reader::Vec3;
+using demcal::config::reader::InteractionKeys;
+using demcal::config::reader::Range;
+using demcal::config::reader::Table;
+using demcal::config::reader::above;
+using demcal::config::reader::at_least;
+using demcal::config::reader::between;
+using demcal::config::reader::bracket;
+using demcal::config::reader::check_part_parameters;
+using demcal::config::reader::describe_value;
+using demcal::config::reader::edit_distance;
+using demcal::config::reader::file_name_problem;
+using demcal::config::reader::format_number;
+using demcal::config::reader::guarded;
+using demcal::config::reader::is_path_prefix;
+using demcal::config::reader::kMaxDensity;
+using demcal::config::reader::kMaxFriction;
+using demcal::config::reader::kMaxModulus;
+using demcal::config::reader::node_line;
+using demcal::config::reader::quoted_list;
+using demcal::config::reader::read_air;
+using demcal::config::reader::read_contact;
+using demcal::config::reader::read_interaction;
+using demcal::config::reader::read_interaction_over;
+using demcal::config::reader::read_material_properties;
+using demcal::config::reader::read_part_parameters;
+using demcal::config::reader::read_restitution_model;
+using demcal::config::reader::read_run_name;
+using demcal::config::reader::read_size;
+using demcal::config::reader::require_above;
+using demcal::config::reader::vec_text;
 
 // ---------------------------------------------------------------- documents
 

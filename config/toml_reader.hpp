@@ -503,7 +503,9 @@ std::string read_run_name(Table& t, std::string_view key);
 //   material:     density_kg_m3, youngs_modulus_pa | shear_modulus_pa, poisson_ratio
 //   interaction:  restitution, sliding_friction, rolling_friction,
 //                 rolling_stiffness_factor (opt), rolling_damping_ratio (opt),
-//                 surface_energy_j_m2 (opt, >= 0; not written in when absent)
+//                 and every key a contact part declares (dem/contact/part_parameter.hpp;
+//                 `demcal schema contact` lists them: JKR's surface_energy_j_m2, ...),
+//                 each with its declared range, not written in when absent
 //   contact:      normal, adhesion (opt), tangential, rolling, cdt_own_angular_velocity (opt)
 //   air:          drag (opt, "none" | "schiller_naumann"), density_kg_m3 (opt, > 0),
 //                 dynamic_viscosity_pa_s (opt, > 0), drag_scale (opt, >= 0; not written
@@ -518,17 +520,21 @@ dem::ContactLawSpec read_contact(Table& t);
 dem::RestitutionModel read_restitution_model(Table& t);
 std::optional<dem::AirProperties> read_air(Table& t);
 
-// A surface_energy_j_m2 key found in an interaction table.
-struct SurfaceEnergyKey {
+// The declared part parameters of an interaction table, read into `p`.
+void read_part_parameters(Table& t, dem::InteractionParameters& p);
+
+// An interaction table and what was read from it.
+struct InteractionKeys {
   Table* table;
-  double value_j_m2;
+  dem::InteractionParameters values;
 };
-// The surface energy and the adhesion part must agree: with adhesion "none" a
-// value > 0 is refused at its key (it would be ignored); an adhesion part needs
-// the key in at least one interaction (an explicit 0 is accepted, so that a
-// design can reach the cohesionless end), else it is refused at contact.adhesion.
-void check_surface_energies(Table& contact, const std::string& adhesion,
-                            const std::vector<SurfaceEnergyKey>& given);
+// The declared part parameters and the contact law must agree: a key whose part
+// is not in the law, at a value other than its default, is refused at the key
+// (it would be ignored); a part in the law needs each of its required keys in
+// at least one interaction (an explicit 0 is accepted, so that a design can
+// reach the "off" end), else it is refused at contact.<role>.
+void check_part_parameters(Table& contact, const dem::ContactLawSpec& law,
+                           const std::vector<InteractionKeys>& given);
 
 }  // namespace reader
 }  // namespace demcal::config

@@ -9,7 +9,10 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using demcal::config::CalibrationConfig;
+using demcal::config::ConfigError;
+using demcal::config::StudyConfig;
+using demcal::config::read_recordings_csv;
 
 namespace fs = std::filesystem;
 

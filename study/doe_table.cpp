@@ -1,12 +1,17 @@
 #include "study/doe_table.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include "study/run_record.hpp"
 
 #include <algorithm>
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using demcal::config::observable_names;
+using demcal::config::series_observable_names;
+using demcal::config::series_observables;
+using demcal::config::shortest_decimal;
 namespace {
 
 std::string observable_text(const nlohmann::json& v) {
@@ -157,8 +162,8 @@ DoeTable write_doe_table(const DoePlan& plan, const RunStore& store,
   DoeTable table = make_doe_table(plan, records);
   if (complete_only && table.missing > 0) return table;
   std::filesystem::create_directories(study_dir);
-  write_file_durably(study_dir / "doe.csv", table.csv);
-  write_file_durably(study_dir / "doe.json", table.json.dump(2) + "\n");
+  io::write_file_atomically(study_dir / "doe.csv", table.csv);
+  io::write_file_atomically(study_dir / "doe.json", table.json.dump(2) + "\n");
   return table;
 }
 

@@ -11,7 +11,13 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using demcal::config::ConfigError;
+using demcal::config::SimulationConfig;
+using demcal::config::StudyApparatus;
+using demcal::config::StudyConfig;
+using demcal::config::resolved_for;
+using demcal::config::series_observables;
+using demcal::config::with_stable_observables;
 namespace {
 
 nlohmann::json vec_json(const dem::Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }

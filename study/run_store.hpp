@@ -36,6 +36,7 @@
 #include "config/canonical_json.hpp"
 #include "config/run_record_reader.hpp"
 #include "config/study_config.hpp"
+#include "io/atomic_file.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -63,14 +64,9 @@ RunKey make_run_key(nlohmann::json key);
 RunKey run_key_for(const config::StudyConfig& study, const std::string& apparatus,
                    std::uint64_t seed, int threads);
 
-// Writes `content` to `file` through a unique temporary in the same directory,
-// fsync, rename. Throws std::runtime_error naming the file on failure (the
-// temporary is removed).
-void write_file_durably(const std::filesystem::path& file, std::string_view content);
-
-// Removes the temporaries in `dir` that processes of this host left and that
-// no longer run; returns how many.
-std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
+// The store writes through demcal's one atomic writer (io/atomic_file.hpp),
+// whose clean-up of stale temporaries the design runner calls by this name.
+using io::remove_stale_temporaries;
 
 class RunStore {
  public:

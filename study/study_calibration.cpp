@@ -18,7 +18,10 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using demcal::config::CalibrationConfig;
+using demcal::config::ConfigError;
+using demcal::config::StudyConfig;
+using demcal::config::load_study_config;
 namespace {
 
 namespace fs = std::filesystem;

@@ -20,7 +20,14 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using demcal::config::ConfigError;
+using demcal::config::DoeCsv;
+using demcal::config::DoeCsvRow;
+using demcal::config::StudyConfig;
+using demcal::config::SurrogateConfig;
+using demcal::config::load_study_config;
+using demcal::config::read_doe_csv;
+namespace reader = demcal::config::reader;
 namespace {
 
 namespace fs = std::filesystem;

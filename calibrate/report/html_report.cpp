@@ -1,5 +1,7 @@
 #include "calibrate/report/html_report.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -109,14 +111,7 @@ std::string HtmlReport::html() const {
 
 void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-    f << text;
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-  }
-  std::filesystem::rename(tmp, path);
+  io::write_file_atomically(path, text);
 }
 
 void HtmlReport::write(const std::filesystem::path& path) const { write_text_atomically(path, html()); }

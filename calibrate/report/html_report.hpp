@@ -43,8 +43,8 @@ std::string html_escape(const std::string& text);
 // "—" when not finite.
 std::string format_number(double v, int precision = 4);
 
-// Writes `text` to a temporary file beside `path` and renames it over `path`:
-// a reader never sees half a report.
+// Creates the parent directories and writes `text` through demcal's one atomic
+// writer (io/atomic_file.hpp): a reader never sees half a report.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace demcal::calibrate

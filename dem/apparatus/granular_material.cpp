@@ -82,11 +82,14 @@ InstalledMaterials install_materials(Simulation& sim, const GranularMaterial& m,
   InstalledMaterials installed;
   installed.particle = sim.add_material(particle);
   installed.wall = sim.add_material(m.wall);
-  // Pull-off (3 pi gamma R*) over weight goes as gamma / R^2: gamma f^2 gives a
-  // parcel of factor f the Bond number of the grains it stands for.
+  // Each contact part's parameters scale as the part declares, so that a parcel
+  // of factor f keeps the dimensionless group of the grains it stands for (JKR:
+  // pull-off 3 pi gamma R* over weight goes as gamma / R^2, so gamma f^2).
   const double f = reduction.coarse_graining_factor;
   const auto reduced = [f](InteractionParameters params) {
-    params.surface_energy_j_m2 *= f * f;
+    for (const RegisteredPartParameter& r : registered_part_parameters())
+      if (r.parameter.coarse_graining_exponent != 0.0)
+        r.parameter.value_in(params) = r.parameter.coarse_grained(r.parameter.value_in(params), f);
     return params;
   };
   sim.set_interaction(installed.particle, installed.particle, reduced(m.particle_particle));

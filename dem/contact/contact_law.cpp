@@ -1,5 +1,8 @@
 #include "dem/contact/contact_law.hpp"
 
+#include <cmath>
+#include <cstdio>
+#include <set>
 #include <stdexcept>
 
 namespace demcal::dem {
@@ -48,7 +51,82 @@ const char* name_of(const Variant& v) {
   return std::visit([](const auto& p) { return std::decay_t<decltype(p)>::kName; }, v);
 }
 
+template <class Part>
+concept DeclaresParameters = requires { Part::kParameters; };
+
+template <class Variant>
+void collect_parameters(const std::string& role, std::vector<RegisteredPartParameter>& out) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (
+        [&] {
+          using Part = std::variant_alternative_t<I, Variant>;
+          if constexpr (DeclaresParameters<Part>)
+            for (const PartParameter& p : Part::kParameters) out.push_back({role, Part::kName, p});
+        }(),
+        ...);
+  }(std::make_index_sequence<std::variant_size_v<Variant>>{});
+}
+
+std::vector<RegisteredPartParameter> collect_all_parameters() {
+  std::vector<RegisteredPartParameter> all;
+  collect_parameters<NormalPart>("normal", all);
+  collect_parameters<AdhesionPart>("adhesion", all);
+  collect_parameters<TangentialPart>("tangential", all);
+  collect_parameters<RollingPart>("rolling", all);
+  std::set<int> slots;
+  std::set<std::string> keys;
+  for (const RegisteredPartParameter& r : all) {
+    const PartParameter& p = r.parameter;
+    const std::string who = "contact part \"" + r.part + "\", parameter " + p.key + ": ";
+    if (!keys.insert(p.key).second) throw std::logic_error(who + "another part declares this key");
+    if (p.legacy_field != nullptr) continue;
+    if (p.slot < 0 || p.slot >= static_cast<int>(kPartValueSlots))
+      throw std::logic_error(who + "slot " + std::to_string(p.slot) + " outside PartValues");
+    if (!slots.insert(p.slot).second)
+      throw std::logic_error(who + "slot " + std::to_string(p.slot) + " is taken by another part");
+    if (!p.accepts(p.default_value)) throw std::logic_error(who + "default outside its range");
+  }
+  return all;
+}
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 }  // namespace
+
+const std::vector<RegisteredPartParameter>& registered_part_parameters() {
+  static const std::vector<RegisteredPartParameter> all = collect_all_parameters();
+  return all;
+}
+
+const PartValues& default_part_values() {
+  static const PartValues values = [] {
+    PartValues v{};
+    for (const RegisteredPartParameter& r : registered_part_parameters())
+      if (r.parameter.legacy_field == nullptr)
+        v[static_cast<std::size_t>(r.parameter.slot)] = r.parameter.default_value;
+    return v;
+  }();
+  return values;
+}
+
+std::string part_parameter_range_text(const PartParameter& p) {
+  const bool has_lo = std::isfinite(p.lo), has_hi = std::isfinite(p.hi);
+  if (has_lo && has_hi)
+    return std::string(p.lo_open ? "(" : "[") + number_text(p.lo) + ", " + number_text(p.hi) +
+           (p.hi_open ? ")" : "]");
+  if (has_lo) return std::string(p.lo_open ? "> " : ">= ") + number_text(p.lo);
+  if (has_hi) return std::string(p.hi_open ? "< " : "<= ") + number_text(p.hi);
+  return "any number";
+}
+
+const std::vector<std::string>& contact_roles() {
+  static const std::vector<std::string> roles = {"normal", "adhesion", "tangential", "rolling"};
+  return roles;
+}
 
 ContactLaw make_contact_law(const ContactLawSpec& spec) {
   ContactLaw law;

@@ -6,6 +6,11 @@
 // its role's list below — the force loop is generated for every combination,
 // so no central switch is edited and no virtual call sits in the hot loop.
 //
+// A part with numbers of its own declares them (keys, units, ranges, defaults,
+// coarse-graining exponent) in `static constexpr std::array<PartParameter, N>
+// kParameters` (dem/contact/part_parameter.hpp); readers, schema and coarse
+// graining take them from registered_part_parameters().
+//
 // A part's apply() is marked [[gnu::always_inline]]: the loop must not call it.
 //
 // A part may hold a contact beyond touching (adhesion): it then defines
@@ -19,8 +24,10 @@
 
 #include "dem/contact/hertz_normal.hpp"
 #include "dem/contact/jkr_adhesion.hpp"
+#include "dem/contact/liquid_bridge.hpp"
 #include "dem/contact/mindlin_tangential.hpp"
 #include "dem/contact/no_adhesion.hpp"
+#include "dem/contact/part_parameter.hpp"
 #include "dem/contact/rolling_resistance.hpp"
 
 #include <algorithm>
@@ -33,7 +40,7 @@ namespace demcal::dem {
 
 // The registry: one line per role. Names come from each part's kName.
 using NormalPart = std::variant<HertzNormal>;
-using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion>;
+using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion, LiquidBridge>;
 using TangentialPart = std::variant<MindlinTangential, NoTangential>;
 using RollingPart = std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot, NoRolling>;
 
@@ -63,6 +70,17 @@ ContactLaw make_contact_law(const ContactLawSpec& spec);
 
 // Names each role knows, for help texts and error messages.
 std::vector<std::string> known_part_names(const std::string& role);
+
+// The roles, in the order the parts apply: normal, adhesion, tangential, rolling.
+const std::vector<std::string>& contact_roles();
+
+// Every parameter the registered parts declare, role by role, part by part,
+// in declaration order. Throws std::logic_error when two parts claim one slot
+// or one key, or a slot lies outside PartValues.
+const std::vector<RegisteredPartParameter>& registered_part_parameters();
+
+// "[0, 90)", ">= 0": a declared range as messages and the schema show it.
+std::string part_parameter_range_text(const PartParameter& p);
 
 // A part that holds contacts beyond touching (see the top of this file).
 template <class Part>

@@ -44,8 +44,10 @@
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/contact/pair_coefficients.hpp"
+#include "dem/contact/part_parameter.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -120,6 +122,19 @@ inline double critical_separation_m(double youngs_modulus_eff_pa, double surface
 
 struct JkrAdhesion {
   static constexpr const char* kName = "jkr";
+  // gamma keeps its named field (older code and tests read it); coarse
+  // graining: f^2 (see the top of this file).
+  static constexpr std::array<PartParameter, 1> kParameters = {{
+      {.key = "surface_energy_j_m2",
+       .unit = "J/m^2",
+       .summary = "JKR surface energy gamma of each surface (pull-off force 3 pi gamma R*)",
+       .what = "the surface energy",
+       .default_value = 0.0,
+       .lo = 0.0,
+       .required = true,
+       .coarse_graining_exponent = 2.0,
+       .legacy_field = &InteractionParameters::surface_energy_j_m2},
+  }};
 
   // Whether a contact that touched is still held at this (negative) overlap:
   // -delta < 3 a_c^2 / R*, compared in cubes, (-delta)^3 < (27 pi^2 / 16)

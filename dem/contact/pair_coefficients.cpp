@@ -1,5 +1,6 @@
 #include "dem/contact/pair_coefficients.hpp"
 
+#include "dem/contact/contact_law.hpp"
 #include "dem/contact/restitution_damping.hpp"
 
 #include <cmath>
@@ -19,6 +20,12 @@ void InteractionParameters::validate(const std::string& where) const {
   if (!(rolling_damping_ratio >= 0.0)) fail("rolling_damping_ratio must be >= 0");
   if (!(surface_energy_j_m2 >= 0.0) || !std::isfinite(surface_energy_j_m2))
     fail("surface_energy_j_m2 must be >= 0");
+  for (const RegisteredPartParameter& r : registered_part_parameters()) {
+    if (r.parameter.legacy_field != nullptr) continue;  // checked above, with its own words
+    if (!r.parameter.accepts(r.parameter.value_in(*this)))
+      fail(std::string(r.parameter.key) + " is outside its range " +
+           part_parameter_range_text(r.parameter));
+  }
 }
 
 PairCoefficients resolve_pair(const Material& a, const Material& b,
@@ -36,6 +43,7 @@ PairCoefficients resolve_pair(const Material& a, const Material& b,
   c.rolling_stiffness_factor = p.rolling_stiffness_factor;
   c.rolling_damping_ratio = p.rolling_damping_ratio;
   c.surface_energy_j_m2 = p.surface_energy_j_m2;
+  c.part_values = p.part_values;
   return c;
 }
 

@@ -4,9 +4,19 @@
 
 #include "dem/material.hpp"
 
+#include <array>
+#include <cstddef>
 #include <string>
 
 namespace demcal::dem {
+
+// The values of the parameters contact parts declare for themselves
+// (dem/contact/part_parameter.hpp), by slot.
+inline constexpr std::size_t kPartValueSlots = 8;
+using PartValues = std::array<double, kPartValueSlots>;
+// Every slot at its declared default (0 where no part declares it); defined
+// in contact_law.cpp, where the parts are registered.
+const PartValues& default_part_values();
 
 // What a user states about a pair of materials (particle–particle or particle–wall).
 struct InteractionParameters {
@@ -20,8 +30,11 @@ struct InteractionParameters {
   // Surface energy gamma of each surface (J/m^2) for an adhesion part (JKR:
   // pull-off force 3 pi gamma R*); 0 = no adhesion between this pair.
   double surface_energy_j_m2 = 0.0;
+  // The parameters contact parts declare themselves, at their defaults until read.
+  PartValues part_values = default_part_values();
 
-  // Throws std::invalid_argument naming the field (prefixed by `where`).
+  // Throws std::invalid_argument naming the field (prefixed by `where`); the
+  // declared part parameters against their declared ranges.
   void validate(const std::string& where) const;
 };
 
@@ -45,6 +58,7 @@ struct PairCoefficients {
   double rolling_stiffness_factor = 0.0;
   double rolling_damping_ratio = 0.0;
   double surface_energy_j_m2 = 0.0;
+  PartValues part_values{};  // as given, by the slot each part declares
 };
 
 PairCoefficients resolve_pair(const Material& a, const Material& b,

@@ -1,0 +1,42 @@
+#pragma once
+// What `demcal schema [NAME]` prints: every key a registered model declares,
+// with its unit, default and range, generated from the declarations the readers
+// themselves use (so the listing cannot drift from what is accepted):
+//   - contact parts by role (dem/contact/contact_law.hpp's registry) and the
+//     parameters each part declares (dem/contact/part_parameter.hpp), which
+//     read_interaction reads;
+//   - the physics candidates of `demcal diagnose` (config/physics_candidates.hpp).
+// The command line only prints the text.
+
+#include <string>
+#include <vector>
+
+namespace demcal::config {
+
+// One registered key, as the schema shows it.
+struct SchemaKey {
+  std::string key;
+  std::string unit;
+  std::string default_text;  // "0 (absent: not written in)"
+  std::string range_text;    // "[0, 90)"
+  std::string summary;
+};
+
+// One registered model: a contact part, a physics candidate.
+struct SchemaEntry {
+  std::string kind;     // "contact.adhesion", "diagnosis candidate"
+  std::string name;     // "liquid_bridge"
+  std::string where;    // where its keys go
+  std::vector<SchemaKey> keys;
+};
+
+// Every entry, kinds in a fixed order and names in registration order.
+std::vector<SchemaEntry> schema_entries();
+
+// The schema as text: all entries when `name` is empty, else the entries whose
+// name or kind is `name` (a part, "contact", "contact.adhesion", "candidates"
+// or a candidate's name). An unknown name throws ConfigError listing the
+// names known.
+std::string schema_text(const std::string& name);
+
+}  // namespace demcal::config

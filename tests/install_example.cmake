@@ -1,0 +1,17 @@
+# ctest install_example: installs demcal into a fresh prefix, then configures,
+# builds and runs examples/fit-and-calibrate against it, as another project would.
+# -DBUILD_DIR (demcal's build tree) -DSOURCE_DIR (its sources) -DWORK (scratch).
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message(STATUS "${out}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK}/prefix)
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/fit-and-calibrate -B ${WORK}/build -G Ninja
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+run(${CMAKE_COMMAND} --build ${WORK}/build)
+run(${WORK}/build/fit_and_calibrate ${SOURCE_DIR}/examples/fit-and-calibrate/table.csv)
