@@ -2,6 +2,7 @@
 
 #include "config/canonical_json.hpp"
 #include "config/run_record_reader.hpp"
+#include "study/engine_evaluator.hpp"
 #include "study/run_record.hpp"
 
 #include <fcntl.h>
@@ -104,11 +105,15 @@ RunKey run_key_for(const StudyConfig& study, const std::string& apparatus, std::
   inputs.erase("study");
   inputs.erase("output");
   inputs.erase("design");
-  return make_run_key({{"key_version", kRunKeyVersion},
-                       {"apparatus", apparatus},
-                       {"inputs", toml_to_json(inputs)},
-                       {"seed", seed},
-                       {"threads", threads}});
+  inputs.erase("engine");  // another engine is keyed below, demcal's is not (keys unchanged)
+  nlohmann::json key = {{"key_version", kRunKeyVersion},
+                        {"apparatus", apparatus},
+                        {"inputs", toml_to_json(inputs)},
+                        {"seed", seed},
+                        {"threads", threads}};
+  if (std::optional<nlohmann::json> engine = engine_run_key(study, apparatus))
+    key["engine"] = std::move(*engine);
+  return make_run_key(std::move(key));
 }
 
 void write_file_durably(const std::filesystem::path& file, std::string_view content) {
