@@ -28,8 +28,8 @@ std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& 
     const bool blank = std::all_of(c.launch.begin(), c.launch.end(),
                                    [](unsigned char ch) { return std::isspace(ch) != 0; });
     if (blank)
-      t.fail("launch", "expected the command that starts " + c.kind +
-                           " (e.g. \"" + (c.kind == "lammps" ? "lmp" : "mpirun -np 2 liggghts") +
+      t.fail("launch", "expected the command that starts " + c.kind + " (e.g. \"" +
+                           (c.kind == "lammps" ? "lmp" : "mpirun -np 2 liggghts") +
                            "\"), not an empty string");
     // The line is given to /bin/sh with " -in <deck>" appended: a newline or
     // a trailing ';', '&' or '|' would run the engine without its deck.

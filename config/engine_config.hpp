@@ -31,7 +31,7 @@ struct EngineConfig {
   std::string kind = "demcal";
   std::string launch;  // empty for demcal
   std::size_t line = 0;
-  std::string file;    // the study file, for messages
+  std::string file;  // the study file, for messages
 
   bool is_demcal() const { return kind == "demcal"; }
   // "study.toml:12: engine" — the prefix of messages about this table.

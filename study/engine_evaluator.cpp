@@ -103,8 +103,8 @@ std::string engine_version_of(const std::string& kind, const std::string& launch
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
   if (version.empty())
-    throw std::runtime_error("\"" + launch +
-                             "\" ran an empty deck but its log names no LAMMPS or LIGGGHTS version");
+    throw std::runtime_error(
+        "\"" + launch + "\" ran an empty deck but its log names no LAMMPS or LIGGGHTS version");
   asked[launch] = version;
   return version;
 }
@@ -159,12 +159,13 @@ dem::ApparatusResult EngineEvaluator::run() {
 }
 
 void EngineEvaluator::describe(nlohmann::json& record) const {
-  record["engine"] = {{"name", deck_.engine},
-                      {"version", ran_ && !ran_->engine_version.empty() ? ran_->engine_version : version_},
-                      {"launch", launch_},
-                      {"directory", directory_.string()},
-                      {"deck", deck_.script_name},
-                      {"deck_written_by", "demcal " + engine_version()}};
+  record["engine"] = {
+      {"name", deck_.engine},
+      {"version", ran_ && !ran_->engine_version.empty() ? ran_->engine_version : version_},
+      {"launch", launch_},
+      {"directory", directory_.string()},
+      {"deck", deck_.script_name},
+      {"deck_written_by", "demcal " + engine_version()}};
   record["engine_deck"] = deck_.record;
   record["time_step_s"] = time_step_s_;
   record["contact_law"] = "the mapping in engine_deck.mapping (engines/parameter_mapping.hpp)";

@@ -41,7 +41,8 @@ std::string card_field(const std::string& path) {
 nlohmann::json read_json(const std::filesystem::path& file, const std::string& what) {
   std::ifstream in(file);
   if (!in)
-    throw ConfigError(file.string() + ": no " + what + " (run `demcal calibrate` on the study first)");
+    throw ConfigError(file.string() + ": no " + what +
+                      " (run `demcal calibrate` on the study first)");
   nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) throw ConfigError(file.string() + ": not JSON");
   return j;
@@ -76,7 +77,8 @@ engines::MaterialCardInput material_card_input(const std::filesystem::path& stud
   const nlohmann::json& joint = cal.at("joint");
   const auto& minima = joint.at("minima");
   if (!minima.is_array() || minima.empty())
-    throw ConfigError(calibration_json.string() + ": joint.minima: the calibration found no minimum");
+    throw ConfigError(calibration_json.string() +
+                      ": joint.minima: the calibration found no minimum");
   // Minima are listed best first.
   const nlohmann::json& theta = minima.at(0).at("theta");
   std::map<std::string, std::pair<double, double>> extent;
@@ -92,7 +94,8 @@ engines::MaterialCardInput material_card_input(const std::filesystem::path& stud
   if (theta.size() != names.size())
     throw ConfigError(calibration_json.string() + ": joint.minima[0].theta has " +
                       std::to_string(theta.size()) + " values; the study's design has " +
-                      std::to_string(names.size()) + " parameters (a calibration of another study?)");
+                      std::to_string(names.size()) +
+                      " parameters (a calibration of another study?)");
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string field = card_field(design.parameter_paths[i]);
     if (field.empty())
@@ -133,24 +136,22 @@ MaterialExportOutcome export_material_card(const MaterialExportOptions& o) {
   const config::StudyConfig study = config::load_study_config(o.study, o.overrides);
   const std::filesystem::path dir = study_directory(o.output_dir, study.name);
   MaterialExportOutcome out;
-  out.input = material_card_input(o.study, o.overrides,
-                                  dir / "reports" / "calibration" / "calibration.json", dir / "runs");
+  out.input = material_card_input(
+      o.study, o.overrides, dir / "reports" / "calibration" / "calibration.json", dir / "runs");
   for (const config::StudyApparatus& a : study.apparatus) {
     const dem::ModelReduction r = apparatus_reduction(a);
     if (r.coarse_graining_factor != out.input.reduction.coarse_graining_factor ||
         r.shear_modulus_pa != out.input.reduction.shear_modulus_pa)
-      out.warnings.push_back("apparatus \"" + a.name +
-                             "\" ran with other reductions than \"" + study.apparatus.front().name +
-                             "\", whose reductions the card states");
+      out.warnings.push_back("apparatus \"" + a.name + "\" ran with other reductions than \"" +
+                             study.apparatus.front().name + "\", whose reductions the card states");
   }
   const engines::CardResult card = engines::write_material_card(out.input, format);
   if (!card.ok()) throw std::runtime_error("export --to " + o.to + ": " + card.refusal);
-  const bool same_engine =
-      (format == engines::CardFormat::kLammps &&
-       out.input.provenance.calibrated_engine == engines::Engine::kLammps) ||
-      (format == engines::CardFormat::kLiggghts &&
-       out.input.provenance.calibrated_engine == engines::Engine::kLiggghts) ||
-      format == engines::CardFormat::kJson;
+  const bool same_engine = (format == engines::CardFormat::kLammps &&
+                            out.input.provenance.calibrated_engine == engines::Engine::kLammps) ||
+                           (format == engines::CardFormat::kLiggghts &&
+                            out.input.provenance.calibrated_engine == engines::Engine::kLiggghts) ||
+                           format == engines::CardFormat::kJson;
   if (!same_engine)
     out.warnings.push_back("the study was calibrated on " +
                            engines::engine_name(out.input.provenance.calibrated_engine) +
@@ -159,7 +160,9 @@ MaterialExportOutcome export_material_card(const MaterialExportOptions& o) {
   const std::string ext = format == engines::CardFormat::kEdemCsv ? "csv"
                           : format == engines::CardFormat::kJson  ? "json"
                                                                   : "in";
-  out.card = o.card ? *o.card : dir / "material" / (study.name + "." + (o.to == "edem-csv" ? "edem" : o.to) + "." + ext);
+  out.card = o.card ? *o.card
+                    : dir / "material" /
+                          (study.name + "." + (o.to == "edem-csv" ? "edem" : o.to) + "." + ext);
   if (out.card.has_parent_path()) std::filesystem::create_directories(out.card.parent_path());
   write_file_durably(out.card, *card.text);
   return out;

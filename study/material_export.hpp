@@ -23,7 +23,7 @@ struct MaterialExportOptions {
   std::filesystem::path study;
   std::vector<std::string> overrides;  // --set
   std::filesystem::path output_dir = "out";
-  std::string to;                      // "liggghts" | "lammps" | "edem-csv" | "json"
+  std::string to;  // "liggghts" | "lammps" | "edem-csv" | "json"
   // Where the card goes; default <output>/<study>/material/<study>.<to>.<ext>.
   std::optional<std::filesystem::path> card;
 };

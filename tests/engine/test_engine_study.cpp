@@ -88,7 +88,8 @@ launch = ")" + command + "\"\n");
   const DoePlan plan = plan_doe(dir / "study.toml", {}, {}, 1);
   ASSERT_EQ(plan.runs.size(), 2u);
   EXPECT_EQ(plan.runs[0].key.key["engine"]["kind"], "liggghts");
-  EXPECT_EQ(plan.runs[0].key.key["engine"]["version"].get<std::string>().rfind("LIGGGHTS (", 0), 0u);
+  EXPECT_EQ(plan.runs[0].key.key["engine"]["version"].get<std::string>().rfind("LIGGGHTS (", 0),
+            0u);
   const RunStore store(dir / "out" / "runs");
   DesignRunOptions options;
   options.jobs = 2;

@@ -57,7 +57,8 @@ rolling_friction = 0.3
 restitution = 0.6
 sliding_friction = 0.5
 rolling_friction = 0.3
-)" + extra + R"(
+)" + extra +
+         R"(
 [apparatus.rectangular_container]
 width_m = 0.22
 height_m = 0.1
@@ -170,7 +171,8 @@ std::string plan_error(const std::string& name, const std::string& text) {
 TEST(EngineDispatch, WhatTheEngineCannotDoIsRefusedByNameBeforeAnythingRuns) {
   // A wall group with its own interaction: the decks have one wall material.
   const std::string group = plan_error(
-      "group", study_text(fake_engine(), "\n[interaction.particle_wall.floor]\nsliding_friction = 0.2\n"));
+      "group",
+      study_text(fake_engine(), "\n[interaction.particle_wall.floor]\nsliding_friction = 0.2\n"));
   EXPECT_NE(group.find("engine.kind"), std::string::npos) << group;
   EXPECT_NE(group.find("wall group \"floor\""), std::string::npos) << group;
   // A command that is no DEM engine.
@@ -190,7 +192,8 @@ TEST(EngineDispatch, WhatTheEngineCannotDoIsRefusedByNameBeforeAnythingRuns) {
   lammps.replace(lammps.find("kind = \"liggghts\""), 17, "kind = \"lammps\"");
   const std::string cdt = plan_error("cdt", lammps);
   EXPECT_NE(cdt.find("\"lammps\" cannot run apparatus \"rectangular_container\""),
-            std::string::npos) << cdt;
+            std::string::npos)
+      << cdt;
   EXPECT_NE(cdt.find("cdt"), std::string::npos) << cdt;
 }
 

@@ -34,8 +34,9 @@ nlohmann::json calibrate_from(const fs::path& study, const fs::path& table, cons
 TEST(ExternalTable, FitAndCalibrateReadATableAnyCodeCanWrite) {
   const fs::path out = testing::fresh_dir("external-table", "out");
   const fs::path studies = fs::path(DEMCAL_SOURCE_DIR) / "studies";
-  const nlohmann::json external = calibrate_from(studies / "external-table" / "study.toml",
-                                                 studies / "external-table" / "design_table.csv", out);
+  const nlohmann::json external =
+      calibrate_from(studies / "external-table" / "study.toml",
+                     studies / "external-table" / "design_table.csv", out);
   const nlohmann::json& best = external.at("joint").at("minima").at(0).at("theta");
   ASSERT_EQ(best.size(), 2u);
   // Inside the design box.
@@ -47,7 +48,8 @@ TEST(ExternalTable, FitAndCalibrateReadATableAnyCodeCanWrite) {
   // seeds, run names and the empty flow-rate and density columns change nothing.
   // (Its verification run on the conical pile is left out: it would run DEM.)
   std::string text = testing::slurp(studies / "sandglass-calibration" / "study.toml");
-  text.erase(text.find("verify = "), text.find('\n', text.find("verify = ")) - text.find("verify = "));
+  text.erase(text.find("verify = "),
+             text.find('\n', text.find("verify = ")) - text.find("verify = "));
   testing::spit(out / "native" / "study.toml", text);
   testing::spit(out / "native" / "recordings.csv",
                 testing::slurp(studies / "sandglass-calibration" / "recordings.csv"));

@@ -39,7 +39,8 @@ poisson_ratio = 0.23
 [contact]
 normal = "hertz"
 tangential = "mindlin"
-rolling = ")" + rolling + R"("
+rolling = ")" +
+         rolling + R"("
 
 [interaction.particle_particle]
 restitution = 0.6
