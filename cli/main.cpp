@@ -4,6 +4,7 @@
 #include "cli/calibrate_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "cli/doe_command.hpp"
+#include "cli/export_command.hpp"
 #include "study/mpi_session.hpp"
 #include "cli/fit_command.hpp"
 #include "study/run_record.hpp"
@@ -178,6 +179,8 @@ int main(int argc, char** argv) {
   diagnose_cmd->add_option("--run-store", diag_opts.run_store,
                            std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
+  ExportOptions export_opts;
+  CLI::App* export_cmd = add_export_command(app, export_opts);
 
   std::string schema_name;
   CLI::App* schema_cmd = app.add_subcommand(
@@ -230,6 +233,8 @@ int main(int argc, char** argv) {
       study_opts.doe.progress = !study_opts.doe.quiet && isatty(fileno(stderr)) != 0;
       return cli::run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
+
+  if (*export_cmd) return guarded("", [&] { return run_export(export_opts, std::cout, std::cerr); });
 
   if (*diagnose_cmd)
     return guarded("", [&] { return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });

@@ -248,7 +248,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // reported as a missing one.
   for (const char* k :
        {"study", "material", "wall_material", "contact", "interaction", "air", "protocol",
-        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
+        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis", "engine"})
     root.has(k);
   root.finish();
 
@@ -445,6 +445,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
     for (const auto& a : out.apparatus) setups.push_back(a.name);
     out.diagnosis = read_diagnosis(root, setups);
   }
+
+  // [engine]
+  out.engine = read_engine(root, doc.file);
 
   root.finish();
   out.resolved = std::move(doc.table);

@@ -162,6 +162,10 @@
 //   (config/surrogate_config.hpp) model = "gaussian_process"            # | "polynomial"; further
 //   keys per model there
 //
+//   [engine]                              # opt; which DEM engine runs the design points
+//   (config/engine_config.hpp) kind = "demcal"  # | "liggghts" | "lammps"; launch = "mpirun -np 2
+//   liggghts" (another engine only). Absent or "demcal": not part of any run key.
+//
 //   [calibration]                         # opt; what `demcal calibrate` fits
 //   (config/calibration_config.hpp) recordings = "recordings.csv"         # relative to this file;
 //   further keys there
@@ -186,6 +190,7 @@
 #include "config/calibration_config.hpp"
 #include "config/design_config.hpp"
 #include "config/diagnosis_config.hpp"
+#include "config/engine_config.hpp"
 #include "config/simulation_config.hpp"
 #include "config/surrogate_config.hpp"
 #include "config/toml_reader.hpp"
@@ -236,6 +241,9 @@ struct StudyConfig {
   std::optional<CalibrationConfig> calibration;
   // [diagnosis], when the study has one (config/diagnosis_config.hpp).
   std::optional<DiagnosisConfig> diagnosis;
+  // [engine], when the study has one (config/engine_config.hpp): absent or
+  // kind = "demcal" runs demcal's own engine.
+  std::optional<EngineConfig> engine;
   // The whole config after overrides, with every default written in.
   toml::table resolved;
 };

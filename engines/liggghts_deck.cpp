@@ -130,8 +130,12 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "region          box block " << box_words(l.box) << " units box\n"
     << "create_box      2 box\n"
     << "neighbor        " << n(o.skin_fraction_of_diameter * d_max) << " bin\n"
-    << "neigh_modify    delay 0\n\n"
-    << "# materials: type 1 grains, type 2 walls (mapped from demcal's, see the header)\n"
+    << "neigh_modify    delay 0\n\n";
+  // LIGGGHTS refuses a modulus above 1 GPa in SI units unless told (glass and
+  // steel walls are harder than that).
+  if (std::max(m.particle_youngs_modulus_pa, m.wall_youngs_modulus_pa) > 1e9)
+    s << "hard_particles  yes\n";
+  s << "# materials: type 1 grains, type 2 walls (mapped from demcal's, see the header)\n"
     << "fix             m1 all property/global youngsModulus peratomtype "
     << n(m.particle_youngs_modulus_pa) << " " << n(m.wall_youngs_modulus_pa) << "\n"
     << "fix             m2 all property/global poissonsRatio peratomtype "

@@ -3,6 +3,7 @@
 #include "dem/contact/pair_coefficients.hpp"
 #include "engines/deck.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -156,6 +157,9 @@ CardResult liggghts_card(const MaterialCardInput& in, const MappingOptions& opt)
     << "#\n# atom type 1: the grains (density " << n(m.density_kg_m3)
     << " kg/m3), atom type 2: the walls (meshes and primitives: type 2)\n"
     << "# (the wall-wall entry 2 2 is never used; it repeats the particle-wall value)\n"
+    << (std::max(m.particle_youngs_modulus_pa, m.wall_youngs_modulus_pa) > 1e9
+            ? "hard_particles  yes  # a modulus above 1 GPa (LIGGGHTS refuses it otherwise)\n"
+            : "")
     << "fix             m1 all property/global youngsModulus peratomtype "
     << n(m.particle_youngs_modulus_pa) << " " << n(m.wall_youngs_modulus_pa) << "\n"
     << "fix             m2 all property/global poissonsRatio peratomtype "

@@ -36,6 +36,12 @@ std::string common_refusal(const std::string& engine, const dem::GranularMateria
   if (m.air_drag)
     return engine + " cannot reproduce demcal's air drag (dem/air_drag.hpp); run without it";
   if (!m.sizes) return engine + ": the material has no size distribution";
+  // The decks give every wall one material (atom type 2, one wall/gran law).
+  if (!m.particle_wall_by_group.empty())
+    return engine + " deck cannot give the wall group \"" + m.particle_wall_by_group.begin()->first +
+           "\" its own interaction ([interaction.particle_wall." +
+           m.particle_wall_by_group.begin()->first +
+           "]): demcal's decks give every wall the one particle_wall law";
   return "";
 }
 

@@ -39,6 +39,10 @@
 //    allow_rolling_substitute, then sds with the same limiting torque
 //    (mu_r_LAMMPS = mu_r l / R_eff: 2 mu_r between equal spheres, mu_r at a wall).
 //
+// Both: wall groups with their own interaction ([interaction.particle_wall.<group>],
+// GranularMaterial::particle_wall_by_group) are refused: the decks give every
+// wall one material and one wall/gran law.
+//
 // LIGGGHTS 3.8 (pair_style gran model hertz tangential history rolling_friction ...):
 //  * materials are per atom type (type 1 grain, type 2 wall) and mixed by Hertz
 //    theory as demcal mixes them: youngsModulus, poissonsRatio carry over.

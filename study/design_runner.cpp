@@ -2,6 +2,7 @@
 
 #include "config/study_config.hpp"
 #include "dem/simulation.hpp"
+#include "study/engine_evaluator.hpp"
 #include "study/run_record.hpp"
 
 #include <omp.h>
@@ -41,7 +42,8 @@ struct ExecutedRun {
 };
 
 ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
-                        const std::function<bool()>& should_stop) {
+                        const std::function<bool()>& should_stop,
+                        const std::filesystem::path& engine_runs) {
   // The plan built this study already (with the study's seed); a failure now
   // is not a result of the run but a fault, and stops the campaign.
   std::optional<StudyConfig> built;
@@ -70,12 +72,15 @@ ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
     if (should_stop()) throw RunCancelled{};
   };
 
+  // [engine]: another engine runs the point (study/engine_evaluator.hpp).
+  std::optional<EngineEvaluator> engine =
+      EngineEvaluator::for_run(study, chosen, engine_runs / run.key.hash);
   ExecutedRun out;
   RunResults res;
   dem::ApparatusResult result;
   const Clock::time_point start = Clock::now();
   try {
-    result = apparatus.run(observe);
+    result = engine ? engine->run() : apparatus.run(observe);
     out.ok = true;
     res.stopped_because = "finished";
   } catch (const RunCancelled&) {
@@ -92,6 +97,7 @@ ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
 
   out.record = make_apparatus_run_record(study, chosen, res, out.ok ? &result : nullptr);
   out.record["inputs"].erase("output");  // not part of the run (run_store.hpp)
+  if (engine) engine->describe(out.record);
   nlohmann::json values = nlohmann::json::object();
   const auto& params = plan.design.spec.parameters;
   for (std::size_t i = 0; i < params.size(); ++i)
@@ -192,7 +198,8 @@ DesignRunResult DesignRunner::run(ProgressObserver& observer) {
             std::lock_guard<std::mutex> lock(mutex);
             events.push_back({queue[k], false, false, {}, 0.0});
           }
-          ExecutedRun done = execute_run(plan_, run, should_stop);
+          ExecutedRun done =
+              execute_run(plan_, run, should_stop, store_.directory().parent_path() / "engine-runs");
           if (done.cancelled) break;
           if (options_.stop_after) {
             // At most stop_after runs are stored; the one that reaches it stops the others.

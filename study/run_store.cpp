@@ -2,6 +2,7 @@
 
 #include "config/canonical_json.hpp"
 #include "config/run_record_reader.hpp"
+#include "study/engine_evaluator.hpp"
 #include "study/run_record.hpp"
 #include "io/atomic_file.hpp"
 
@@ -44,11 +45,15 @@ RunKey run_key_for(const StudyConfig& study, const std::string& apparatus, std::
   inputs.erase("study");
   inputs.erase("output");
   inputs.erase("design");
-  return make_run_key({{"key_version", kRunKeyVersion},
-                       {"apparatus", apparatus},
-                       {"inputs", toml_to_json(inputs)},
-                       {"seed", seed},
-                       {"threads", threads}});
+  inputs.erase("engine");  // another engine is keyed below, demcal's is not (keys unchanged)
+  nlohmann::json key = {{"key_version", kRunKeyVersion},
+                        {"apparatus", apparatus},
+                        {"inputs", toml_to_json(inputs)},
+                        {"seed", seed},
+                        {"threads", threads}};
+  if (std::optional<nlohmann::json> engine = engine_run_key(study, apparatus))
+    key["engine"] = std::move(*engine);
+  return make_run_key(std::move(key));
 }
 
 RunStore::RunStore(std::filesystem::path runs_dir) : dir_(std::move(runs_dir)) {}

@@ -42,6 +42,8 @@ class ConicalPile final : public Apparatus {
   // and the "funnel" (outlet plate, cone and cylinder above it).
   static std::vector<std::string> wall_group_names() { return {"floor", "base", "outer_wall", "funnel"}; }
   const Simulation& simulation() const override { return *sim_; }
+  // What it was built from (engines/ writes other engines' decks from it).
+  const ConicalPileOptions& options() const { return o_; }
   ApparatusResult run(const StepObserver& observe) override;
 
  private:

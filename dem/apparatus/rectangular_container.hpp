@@ -47,6 +47,8 @@ class RectangularContainer final : public Apparatus {
   // its thickness (absent when the thickness is periodic).
   static std::vector<std::string> wall_group_names() { return {"floor", "end_walls", "side_walls"}; }
   const Simulation& simulation() const override { return *sim_; }
+  // What it was built from (engines/ writes other engines' decks from it).
+  const RectangularContainerOptions& options() const { return o_; }
   ApparatusResult run(const StepObserver& observe) override;
 
   double thickness_m() const { return thickness_m_; }

@@ -58,6 +58,8 @@ class Sandglass final : public Apparatus {
   // the "hopper" (cone and upper cylinder, or their slice walls).
   static std::vector<std::string> wall_group_names() { return {"floor", "lower_wall", "orifice_plate", "hopper"}; }
   const Simulation& simulation() const override { return *sim_; }
+  // What it was built from (engines/ writes other engines' decks from it).
+  const SandglassOptions& options() const { return o_; }
   ApparatusResult run(const StepObserver& observe) override;
 
   double fill_mass_kg() const { return fill_mass_kg_; }

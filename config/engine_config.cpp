@@ -1,0 +1,47 @@
+#include "config/engine_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+namespace demcal::config {
+
+const std::vector<std::string>& known_engine_kinds() {
+  static const std::vector<std::string> kinds{"demcal", "liggghts", "lammps"};
+  return kinds;
+}
+
+std::string EngineConfig::where() const { return file + ":" + std::to_string(line) + ": engine"; }
+
+std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& file) {
+  if (!root.has("engine")) return std::nullopt;
+  reader::Table t = root.table("engine");
+  EngineConfig c;
+  c.line = t.line();
+  c.file = file;
+  c.kind = t.choice_or("kind", known_engine_kinds(), "demcal");
+  if (c.is_demcal()) {
+    // demcal runs inside this process: a launch line would be silently ignored.
+    if (t.has("launch"))
+      t.fail("launch", "is for kind = \"liggghts\" or \"lammps\" only (demcal runs in process)");
+  } else {
+    c.launch = t.string_or("launch", c.kind == "lammps" ? "lmp" : "liggghts");
+    const bool blank = std::all_of(c.launch.begin(), c.launch.end(),
+                                   [](unsigned char ch) { return std::isspace(ch) != 0; });
+    if (blank)
+      t.fail("launch", "expected the command that starts " + c.kind + " (e.g. \"" +
+                           (c.kind == "lammps" ? "lmp" : "mpirun -np 2 liggghts") +
+                           "\"), not an empty string");
+    // The line is given to /bin/sh with " -in <deck>" appended: a newline or
+    // a trailing ';', '&' or '|' would run the engine without its deck.
+    if (c.launch.find_first_of("\n\r") != std::string::npos)
+      t.fail("launch", "expected one command line (it holds a line break)");
+    const std::size_t last = c.launch.find_last_not_of(" \t");
+    if (std::string(";&|").find(c.launch[last]) != std::string::npos)
+      t.fail("launch", "expected a command that takes \"-in <deck>\" after it; it ends in '" +
+                           std::string(1, c.launch[last]) + "'");
+  }
+  t.finish();
+  return c;
+}
+
+}  // namespace demcal::config

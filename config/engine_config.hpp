@@ -1,0 +1,46 @@
+#pragma once
+// The [engine] table of a study config: which DEM engine runs the study's
+// design points. Absent (or kind = "demcal"): demcal's own engine, and nothing
+// changes: the table is not part of any run key (study/run_store.hpp). Another
+// engine is driven through study/engine_evaluator.hpp: demcal writes its input
+// deck from the same apparatus description, runs it with `launch`, reads the
+// dumps back and measures them with its own code.
+//
+//   [engine]                          # opt
+//   kind = "liggghts"                 # "demcal" (default) | "liggghts" | "lammps"
+//   launch = "mpirun -np 2 liggghts"  # opt, liggghts/lammps only: the command line the
+//                                     #   deck is run with (everything before "-in"; an
+//                                     #   srun line on a cluster); default "liggghts" or
+//                                     #   "lmp". Not in the run key: where and on how many
+//                                     #   ranks a run went is recorded in the run file,
+//                                     #   the engine and its version are in the key.
+
+#include "config/toml_reader.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace demcal::config {
+
+// "demcal", "liggghts", "lammps".
+const std::vector<std::string>& known_engine_kinds();
+
+struct EngineConfig {
+  std::string kind = "demcal";
+  std::string launch;  // empty for demcal
+  std::size_t line = 0;
+  std::string file;  // the study file, for messages
+
+  bool is_demcal() const { return kind == "demcal"; }
+  // "study.toml:12: engine" — the prefix of messages about this table.
+  std::string where() const;
+};
+
+// Reads [engine] if present (nullopt when absent). An unknown kind, an empty
+// launch line, or a launch line with kind = "demcal" is a ConfigError naming
+// the key.
+std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& file);
+
+}  // namespace demcal::config
