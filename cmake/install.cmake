@@ -7,7 +7,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(DEMCAL_EXPORTED_LIBRARIES io dem surrogate calibrate config study)
+set(DEMCAL_EXPORTED_LIBRARIES io dem surrogate calibrate config engines study)
 foreach(lib IN LISTS DEMCAL_EXPORTED_LIBRARIES)
   # In the build tree the headers are found from the source root, installed
   # under include/demcal, both as "<library>/<header>.hpp".

@@ -29,8 +29,11 @@ std::string common_refusal(const std::string& engine, const dem::GranularMateria
   if (m.contact.normal != "hertz")
     return engine + " cannot use demcal's normal part \"" + m.contact.normal + "\"";
   if (m.contact.adhesion != "none")
-    return engine + " cannot reproduce demcal's adhesion \"" + m.contact.adhesion +
-           "\" (EDEM-form JKR with demcal's hysteresis and friction load); no mapping is stated";
+    return engine + " cannot reproduce demcal's adhesion \"" + m.contact.adhesion + "\" (" +
+           (m.contact.adhesion == "jkr"
+                ? std::string("EDEM-form JKR with demcal's hysteresis and friction load")
+                : std::string("demcal's own adhesion part, with its rupture rule")) +
+           "); no mapping is stated";
   if (m.particle_particle.surface_energy_j_m2 > 0.0 || m.particle_wall.surface_energy_j_m2 > 0.0)
     return engine + " cannot reproduce a surface energy without demcal's adhesion part";
   if (m.air_drag)
