@@ -228,7 +228,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // reported as a missing one.
   for (const char* k :
        {"study", "material", "wall_material", "contact", "interaction", "air", "protocol",
-        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis"})
+        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis", "raw_recordings"})
     root.has(k);
   root.finish();
 
@@ -424,6 +424,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
     std::vector<std::string> setups;
     for (const auto& a : out.apparatus) setups.push_back(a.name);
     out.diagnosis = read_diagnosis(root, setups);
+    out.raw_recordings = read_raw_recordings(root, setups, doc.file);
   }
 
   root.finish();
@@ -466,6 +467,7 @@ toml::table resolved_for(const StudyConfig& study, const std::string& apparatus)
   t.erase("surrogate");
   t.erase("calibration");
   t.erase("diagnosis");  // like the three above: it does not change a run, so not its hash
+  t.erase("raw_recordings");  // the same
   if (toml::table* apps = t["apparatus"].as_table()) {
     toml::table only;
     if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);

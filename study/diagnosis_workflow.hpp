@@ -31,6 +31,10 @@
 // Writes <output>/<study>/reports/diagnosis/index.html (the verdict in words
 // first) and diagnosis.json beside it.
 
+#include "calibrate/correlated_detection.hpp"
+#include "calibrate/discrepancy_diagnosis.hpp"
+#include "calibrate/model_discrepancy.hpp"
+#include "calibrate/scatter_budget.hpp"
 #include "study/progress_observer.hpp"
 
 #include <cstddef>
@@ -66,12 +70,53 @@ struct DiagnosisWorkflowOptions {
   std::filesystem::path output_dir = "out";
 };
 
+// The base model's test as the diagnosis runs it (docs/detection_calibration.md): the
+// targets' DEM scatter taken where the fit lands (the replicate sd pooled with weights
+// that fall off with the distance from the first fit, calibrate/scatter_budget.hpp), the
+// base model refitted with it, and the correlated mismatch test (targets read off the same
+// runs err together; calibrate/correlated_detection.hpp) with its predictive p-value over
+// the estimated scatter, so that its false-alarm rate is the alpha it states.
+struct BaseFitTest {
+  std::vector<calibrate::Target> targets;  // every target, sigma_dem from the local scatter
+  std::vector<double> single_run_scatter;  // per target, at the fit (NaN: no replicates)
+  calibrate::CalibrationResult base;       // on the fitted targets, with the local scatter
+  Eigen::MatrixXd run_correlation;         // of the fitted targets' runs (kept where z >= 2)
+  int scatter_degrees_of_freedom = 0;      // of the replicate scatter (fewest over targets)
+  calibrate::CorrelatedFit correlated;     // its detection gates every DEM run on candidates
+};
+
+// `replicates` and `repeats` have one entry per target (the design's runs of its setup and
+// observable, and the tests its recording is the mean of); `fitted` marks the targets not
+// held out. Throws std::invalid_argument on sizes (as the calibrate functions do).
+BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
+                          const std::vector<calibrate::Target>& targets,
+                          const std::vector<std::vector<calibrate::ReplicatePoint>>& replicates,
+                          const std::vector<int>& repeats, const std::vector<bool>& fitted,
+                          double alpha, const calibrate::CalibrationOptions& calibration);
+
+// What the diagnosis concludes, by the rule of docs/model_discrepancy.md: no mismatch by
+// the test above -> "reproduced" (or "untestable"); a mismatch -> a physics is named
+// ("explained") only when its evidence beats a generic model discrepancy and the base model
+// by the judgement's margin, else "unexplained" with the discrepancy's statement first
+// (which observables, which setups, how large; the parameters widened by it).
+struct DiagnosisVerdict {
+  std::string outcome;      // reproduced | untestable | explained | unexplained
+  std::string explanation;  // none_needed | physics | discrepancy
+  std::string chosen;       // the physics named; empty unless explained
+  std::string summary;      // what the user reads first
+};
+
+DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
+                                  const calibrate::DiscrepancyDiagnosis& diagnosis,
+                                  const calibrate::DiscrepancyJudgement& judgement);
+
 struct DiagnosisOutcome {
   std::filesystem::path report;  // empty when the diagnosis stopped incomplete
   std::filesystem::path json;
   std::string outcome;  // calibrate::to_string(DiagnosisOutcome), "incomplete" when runs are left
   std::string summary;
   std::size_t dem_runs_executed = 0;  // by the diagnosis itself (probes, extended designs)
+  double cpu_time_s = 0.0;            // of this process while it diagnosed (DEM runs included)
 };
 
 // Reads the study (ConfigError for any input problem, before a DEM run),
