@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -107,7 +108,7 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study,
 // candidate's, as the text of a study file (study/derived_study.hpp).
 std::string derived_study(const StudySource& source, const std::string& name,
                           const ResolvedCandidate& c,
-                          const DesignConfig& base, DerivedDesignTable design) {
+                          const std::vector<DerivedParameter>& base, DerivedDesignTable design) {
   ConfigDocument doc = source.document();
   toml::table& t = doc.table;
   for (const char* k : {"design", "calibration", "diagnosis", "output", "raw_recordings"})
@@ -131,12 +132,90 @@ std::string derived_study(const StudySource& source, const std::string& name,
   file.study = t;
   // The base design's parameters with every key that follows them (also_sets: mu_s tied to
   // the walls' friction), so that a probe moves what the base design moved.
-  for (auto& p : base_design_parameters(base)) design.parameters.push_back(std::move(p));
+  for (const auto& p : base) design.parameters.push_back(p);
   // The candidate's other keys follow its parameter (the grains' and the walls' surface energy).
   design.parameters.push_back(
       {c.entry->keys.front(), c.lower, c.upper, {c.entry->keys.begin() + 1, c.entry->keys.end()}});
   file.design = std::move(design);
   return derived_study_text(file);
+}
+
+// The base study with a [design] of its own (no candidate switched on): the extension of
+// the base design when the fit sits on its bound or its surrogates are unsure there.
+std::string base_extension_study(const StudySource& source, const std::string& name,
+                                 DerivedDesignTable design) {
+  ConfigDocument doc = source.document();
+  toml::table& t = doc.table;
+  for (const char* k : {"design", "calibration", "diagnosis", "output", "raw_recordings"})
+    t.erase(k);
+  toml::table s = t["study"].as_table() ? *t["study"].as_table() : toml::table{};
+  s.insert_or_assign("name", name);
+  t.insert_or_assign("study", std::move(s));
+  DerivedStudyFile file;
+  file.header = {"Written by `demcal diagnose`: the base design extended where the base fit "
+                 "needs it (a bound, or surrogates less sure than the DEM's scatter).",
+                 "Run it again with `demcal doe` on this file; edits are overwritten by the next "
+                 "diagnosis."};
+  file.study = t;
+  file.design = std::move(design);
+  return derived_study_text(file);
+}
+
+// Two design tables of the same parameters as one: the second's points numbered after the
+// first's.
+DoeCsv merged_tables(const DoeCsv& a, const DoeCsv& b) {
+  if (a.parameter_names != b.parameter_names)
+    throw ConfigError(b.file + ": its parameters differ from " + a.file + "'s");
+  DoeCsv m = a;
+  int offset = 0;
+  for (const auto& r : a.rows) offset = std::max(offset, r.point + 1);
+  for (const auto& r : b.rows) {
+    DoeCsvRow row;
+    row.line = r.line;
+    row.point = r.point + offset;
+    row.replicate = r.replicate;
+    row.seed = r.seed;
+    row.apparatus = r.apparatus;
+    row.parameters = r.parameters;
+    row.status = r.status;
+    row.hash = r.hash;
+    for (const auto& name : a.observable_names) {
+      const int k = b.observable_index(name);
+      row.observables.push_back(k < 0 ? std::numeric_limits<double>::quiet_NaN()
+                                      : r.observables[static_cast<std::size_t>(k)]);
+    }
+    m.rows.push_back(std::move(row));
+  }
+  return m;
+}
+
+// The runs of one setup and observable of a design table, for a surrogate over `b`.
+surrogate::ReplicatedData base_data(const DoeCsv& t, const std::string& setup,
+                                    const std::string& observable,
+                                    const std::vector<calibrate::ParameterBounds>& b) {
+  surrogate::ReplicatedData d;
+  for (const auto& p : b) {
+    d.input_names.push_back(p.name);
+    d.lower.push_back(p.lower);
+    d.upper.push_back(p.upper);
+  }
+  d.output_name = observable;
+  const int k = t.observable_index(observable);
+  std::vector<const DoeCsvRow*> rows;
+  for (const auto& r : t.rows)
+    if (k >= 0 && r.apparatus == setup && r.status == "ok" &&
+        std::isfinite(r.observables[static_cast<std::size_t>(k)]))
+      rows.push_back(&r);
+  const auto p = static_cast<Eigen::Index>(b.size());
+  d.x.resize(static_cast<Eigen::Index>(rows.size()), p);
+  d.y.resize(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (Eigen::Index j = 0; j < p; ++j)
+      d.x(static_cast<Eigen::Index>(i), j) = rows[i]->parameters[static_cast<std::size_t>(j)];
+    d.y(static_cast<Eigen::Index>(i)) = rows[i]->observables[static_cast<std::size_t>(k)];
+    d.group.push_back(rows[i]->point);
+  }
+  return d;
 }
 
 // Writes the derived study (only when its text changed: the file's time stays
@@ -296,6 +375,7 @@ void write_report(const fs::path& dir, const std::string& study_name,
                   const calibrate::DiscrepancyDiagnosis& d, const BaseFitTest& test,
                   const calibrate::DiscrepancyJudgement& judgement, const DiagnosisVerdict& verdict,
                   const std::vector<std::string>& recording_lines,
+                  const std::vector<std::string>& design_lines,
                   const std::vector<std::string>& cost_lines, const fs::path& json_file) {
   using namespace calibrate;
   fs::create_directories(dir);
@@ -325,6 +405,11 @@ void write_report(const fs::path& dir, const std::string& study_name,
   if (!recording_lines.empty()) {
     r.heading("Recordings read from raw series", 2);
     for (const auto& l : recording_lines) r.paragraph(l);
+  }
+
+  if (!design_lines.empty()) {
+    r.heading("The base design, extended before any candidate", 2);
+    for (const auto& l : design_lines) r.paragraph(l);
   }
 
   r.heading("1. Detect: does the base model reproduce the recordings?", 2);
@@ -503,6 +588,70 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
   return t;
 }
 
+DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& bounds,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<calibrate::Target>& targets,
+                                 const std::vector<double>& single_run_scatter,
+                                 const std::vector<bool>& fitted, int points) {
+  if (static_cast<std::size_t>(theta.size()) != bounds.size() ||
+      single_run_scatter.size() != targets.size() || fitted.size() != targets.size())
+    throw std::invalid_argument("design_extension: theta needs one value per parameter, "
+                                "single_run_scatter and fitted one entry per target");
+  DesignExtension e;
+  e.bounds = bounds;
+  e.points = points;
+  e.centre.assign(theta.data(), theta.data() + theta.size());
+  bool moved = false;
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const double lo = bounds[k].lower, up = bounds[k].upper, range = up - lo;
+    const double v = theta(static_cast<Eigen::Index>(k));
+    const std::string at = bounds[k].name + " = " + format_number(v);
+    if (v - lo <= 0.01 * range) {
+      if (lo > 0.0) {
+        e.bounds[k].lower = std::max(0.0, lo - 0.5 * range);
+        moved = true;
+        e.reasons.push_back("the base fit sits on the design's lower bound (" + at +
+                            "): the design is extended down to " +
+                            format_number(e.bounds[k].lower));
+      } else {
+        e.reasons.push_back("the base fit sits on the lower bound " + format_number(lo) + " of " +
+                            bounds[k].name + ", taken as physical: not extended");
+      }
+    }
+    if (up - v <= 0.01 * range) {
+      e.bounds[k].upper = up + 0.5 * range;
+      moved = true;
+      e.reasons.push_back("the base fit sits on the design's upper bound (" + at +
+                          "): the design is extended up to " + format_number(e.bounds[k].upper));
+    }
+  }
+  bool unsure = false;
+  Eigen::MatrixXd at(1, theta.size());
+  at.row(0) = theta.transpose();
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (!fitted[i] || !std::isfinite(single_run_scatter[i]) || !targets[i].model) continue;
+    const double sd = std::sqrt(std::max(0.0, targets[i].model->predict(at).variance(0)));
+    if (sd > single_run_scatter[i]) {
+      unsure = true;
+      e.reasons.push_back("the surrogate of " + targets[i].setup + " " + targets[i].observable +
+                          " is less sure at the fit (sd " + format_number(sd) +
+                          ") than one DEM run scatters (" + format_number(single_run_scatter[i]) +
+                          ")");
+    }
+  }
+  e.needed = moved || unsure;
+  e.design_box = e.bounds;
+  if (unsure && !moved)
+    // Densify around the fit: a quarter of each range either side, inside the box.
+    for (std::size_t k = 0; k < bounds.size(); ++k) {
+      const double range = bounds[k].upper - bounds[k].lower;
+      const double v = theta(static_cast<Eigen::Index>(k));
+      e.design_box[k].lower = std::max(bounds[k].lower, v - 0.25 * range);
+      e.design_box[k].upper = std::min(bounds[k].upper, v + 0.25 * range);
+    }
+  return e;
+}
+
 DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
                                   const calibrate::DiscrepancyDiagnosis& d,
                                   const calibrate::DiscrepancyJudgement& j) {
@@ -556,7 +705,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   if (!study.calibration)
     throw ConfigError(study.file + ": the study has no [calibration] table (recordings)");
   const DiagnosisConfig& dc = *study.diagnosis;
-  const auto bounds = design_bounds(study);
+  auto bounds = design_bounds(study);
   // Everything a candidate needs is checked before any DEM run.
   std::vector<ResolvedCandidate> candidates;
   for (const auto& name : dc.candidates)
@@ -588,7 +737,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   }
   const fs::path dir = study_directory(o.output_dir, study.name);
   const std::vector<calibrate::Target> pooled_targets = calibration_targets(study, dir, recordings);
-  const DoeCsv base_table = read_doe_csv(dir / "doe.csv");
+  DoeCsv base_table = read_doe_csv(dir / "doe.csv");
 
   calibrate::DiagnosisOptions opt;
   opt.alpha = dc.alpha;
@@ -621,8 +770,74 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   observer.on_message("calibrating the base model on " +
                       std::to_string(std::count(fitted_mask.begin(), fitted_mask.end(), true)) +
                       " recordings ...");
-  const BaseFitTest test = test_base_fit(bounds, pooled_targets, replicates, repeats, fitted_mask,
-                                         dc.alpha, opt.calibration);
+  BaseFitTest test = test_base_fit(bounds, pooled_targets, replicates, repeats, fitted_mask,
+                                   dc.alpha, opt.calibration);
+  std::vector<DerivedParameter> base_params = base_design_parameters(*study.design);
+  std::size_t executed = 0;
+  DesignExtension extension;
+  if (test.correlated.detection.mismatch()) {
+    // The design follows the recordings: a fit on a bound, or surrogates less sure than the
+    // DEM there, is no ground to name a physics on. Extend, refit the surrogates on the union
+    // of both designs' runs and test again, before any candidate.
+    extension = design_extension(bounds, test.base.minima.at(0).theta, test.targets,
+                                 test.single_run_scatter, fitted_mask, dc.extended_points);
+    if (extension.needed) {
+      for (const auto& r : extension.reasons) observer.on_message(r);
+      observer.on_message("extending the base design before any candidate ...");
+      DerivedDesignTable design;
+      design.kind = "latin_hypercube";
+      design.points = extension.points;
+      design.replicates = std::max(2, study.design->replicates);  // the scatter needs pairs
+      design.seed = 1;
+      std::vector<DerivedParameter> box = base_params;
+      for (std::size_t k = 0; k < box.size(); ++k) {
+        box[k].lower = extension.design_box[k].lower;
+        box[k].upper = extension.design_box[k].upper;
+      }
+      design.parameters = box;
+      const StudySource source = StudySource::read(o.study, o.overrides);
+      const DerivedDesignOutcome d =
+          run_derived(dir / "diagnosis" / "base-extended" / "study.toml",
+                      base_extension_study(source, study.name + "--base-extended", std::move(design)),
+                      steps);
+      executed += d.executed;
+      if (!d.complete) {
+        outcome.outcome = "incomplete";
+        return outcome;
+      }
+      base_table = merged_tables(base_table, read_doe_csv(d.table_csv));
+      bounds = extension.bounds;
+      for (std::size_t k = 0; k < base_params.size(); ++k) {
+        base_params[k].lower = bounds[k].lower;
+        base_params[k].upper = bounds[k].upper;
+      }
+      const surrogate::SurrogateSpec spec =
+          study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
+      std::vector<calibrate::Target> refitted = pooled_targets;
+      for (std::size_t i = 0; i < refitted.size(); ++i) {
+        auto& t = refitted[i];
+        surrogate::FittedSurrogate f;
+        try {
+          f = surrogate::fit_surrogate(base_data(base_table, t.setup, t.observable, bounds), spec);
+        } catch (const std::invalid_argument& e) {
+          throw ConfigError(d.table_csv.string() + ": " + t.setup + " " + t.observable + ": " +
+                            e.what());
+        }
+        const fs::path file = dir / "diagnosis" / "base-extended" / "surrogates" /
+                              (t.setup + "." + t.observable + ".json");
+        fs::create_directories(file.parent_path());
+        dem::write_file_atomically(file, f.to_json().dump(1) + "\n");
+        t.model = f.model;
+        t.sigma_dem = std::isfinite(f.scatter.sd)
+                          ? f.scatter.sd / std::sqrt(static_cast<double>(repeats[i]))
+                          : 0.0;
+        replicates[i] = replicate_points(base_table, t.setup, t.observable, bounds.size());
+      }
+      test = test_base_fit(bounds, refitted, replicates, repeats, fitted_mask, dc.alpha,
+                           opt.calibration);
+      observer.on_message("with the extended design: " + test.correlated.detection.statement);
+    }
+  }
   const std::vector<calibrate::Target>& targets = test.targets;
   const calibrate::CalibrationResult& base = test.base;
   const calibrate::MismatchDetection& detection = test.correlated.detection;
@@ -630,7 +845,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
 
   std::vector<calibrate::CandidateModule> modules;
   std::vector<std::string> cost;
-  std::size_t executed = 0;
   if (detection.mismatch()) {
     const StudySource source = StudySource::read(o.study, o.overrides);
     // The base fit, snapped to 1/probe_grid of each range so that a diagnosis
@@ -668,7 +882,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       }
       const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-probe") / "study.toml",
-                      derived_study(source, name, c, *study.design, std::move(design)), steps);
+                      derived_study(source, name, c, base_params, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -741,7 +955,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
                           c.entry->name + " ...");
       const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-extended") / "study.toml",
-                      derived_study(source, name, c, *study.design, std::move(design)), steps);
+                      derived_study(source, name, c, base_params, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -805,18 +1019,40 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   j["detection"]["method"] = "correlated, local scatter, predictive p";
   j["discrepancy_judgement"] = judgement.to_json();
   j["raw_recordings"] = raw_json;
+  j["design_extension"] = {{"needed", extension.needed},
+                           {"reasons", extension.reasons},
+                           {"points", extension.needed ? extension.points : 0}};
+  if (extension.needed) {
+    nlohmann::json box = nlohmann::json::array();
+    for (const auto& b : extension.bounds)
+      box.push_back({{"name", b.name}, {"lower", b.lower}, {"upper", b.upper}});
+    j["design_extension"]["bounds"] = box;
+  }
   j["dem_runs_executed"] = executed;
   j["cpu_time_s"] = cpu;
   j["wall_time_s"] = elapsed;
   outcome.json = report_dir / "diagnosis.json";
   dem::write_file_atomically(outcome.json, j.dump(1) + "\n");
-  write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, cost,
+  std::vector<std::string> design_lines;
+  if (extension.needed) {
+    design_lines = extension.reasons;
+    std::string box;
+    for (const auto& b : extension.bounds)
+      box += (box.empty() ? "" : ", ") + b.name + " in [" + format_number(b.lower) + ", " +
+             format_number(b.upper) + "]";
+    design_lines.push_back(std::to_string(extension.points) +
+                           " Latin hypercube points were run (" + (dir / "diagnosis" / "base-extended" / "study.toml").string() +
+                           "); the surrogates were refitted on both designs' runs over " + box +
+                           " and the test above is on them.");
+  }
+  write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, design_lines, cost,
                outcome.json);
   outcome.report = report_dir / "index.html";
   outcome.outcome = verdict.outcome;
   outcome.summary = verdict.summary;
   outcome.dem_runs_executed = executed;
   outcome.cpu_time_s = cpu;
+  outcome.design_extended = extension.needed;
   return outcome;
 }
 

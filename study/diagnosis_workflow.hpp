@@ -8,8 +8,12 @@
 // What runs, in order, each step resumable through the run store:
 //   1. the study's own pipeline (`demcal study`): design, runs, surrogates;
 //   2. the base calibration on every recording not held out, and the
-//      chi-square test. When the base model fits, it stops here and says so:
-//      no DEM run is spent on candidates;
+//      calibrated mismatch test (test_base_fit below). When the base model fits,
+//      it stops here and says so: no DEM run is spent on candidates. With a
+//      mismatch, when the fit sits on a design bound or the surrogates there are
+//      less sure than the DEM's scatter (design_extension), the base design is
+//      extended first (<output>/<study>/diagnosis/base-extended/study.toml), the
+//      surrogates refitted on both designs' runs and the test repeated;
 //   3. per candidate, a probe: the DEM at the base fit with the candidate
 //      switched on at its probe value (probe_replicates seeds per setup), so
 //      that the sensitivity of every recording to it is measured, not assumed.
@@ -20,7 +24,10 @@
 //      their parameter (Latin hypercube in (parameters, candidate)), which,
 //      with the base design at the candidate's "off" value, fits surrogates
 //      with the candidate's parameter as one more input;
-//   5. the comparison by evidence, the chosen module, before/after.
+//   5. the comparison by evidence, then against a generic model discrepancy
+//      (calibrate/model_discrepancy.hpp): a physics is named only when it beats
+//      it by the margin (decide_diagnosis below), else the report says first that
+//      no candidate explains the pattern.
 // Each probe and extended design is a study of its own, written to
 //   <output>/<study>/diagnosis/<candidate>-probe/study.toml
 //   <output>/<study>/diagnosis/<candidate>-extended/study.toml
@@ -94,6 +101,28 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
                           const std::vector<int>& repeats, const std::vector<bool>& fitted,
                           double alpha, const calibrate::CalibrationOptions& calibration);
 
+// Whether the base design must grow before anything is named (issue 19): the base fit sits on
+// a bound of the design (within 1 % of the range) that can move (a lower bound of 0 is taken
+// as physical: frictions, energies, spreads), or a fitted target's surrogate is less sure at
+// the fit than one DEM run scatters (predictive sd > the local single-run scatter). The new
+// box: a bound the fit sits on moved out by half the range (a lower one not below 0); where
+// only the surrogates are unsure, the same box, densified around the fit.
+struct DesignExtension {
+  bool needed = false;
+  std::vector<std::string> reasons;               // in words, for the report
+  std::vector<calibrate::ParameterBounds> bounds;  // the base and extension's union: the new box
+  std::vector<calibrate::ParameterBounds> design_box;  // where the extension's points go
+  std::vector<double> centre;                     // the fit the extension was asked at
+  int points = 0;                                 // of the Latin hypercube
+};
+
+// `single_run_scatter` per target (NaN: none known); `fitted` marks the targets not held out.
+DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& bounds,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<calibrate::Target>& targets,
+                                 const std::vector<double>& single_run_scatter,
+                                 const std::vector<bool>& fitted, int points);
+
 // What the diagnosis concludes, by the rule of docs/model_discrepancy.md: no mismatch by
 // the test above -> "reproduced" (or "untestable"); a mismatch -> a physics is named
 // ("explained") only when its evidence beats a generic model discrepancy and the base model
@@ -117,6 +146,7 @@ struct DiagnosisOutcome {
   std::string summary;
   std::size_t dem_runs_executed = 0;  // by the diagnosis itself (probes, extended designs)
   double cpu_time_s = 0.0;            // of this process while it diagnosed (DEM runs included)
+  bool design_extended = false;       // the base design grew before the candidates
 };
 
 // Reads the study (ConfigError for any input problem, before a DEM run),

@@ -43,13 +43,14 @@ using surrogate::SurrogateModel;
 
 class Linear final : public SurrogateModel {
  public:
-  Linear(double a, double br, double bs) : a_(a), br_(br), bs_(bs) {}
+  Linear(double a, double br, double bs, double variance = 0.0)
+      : a_(a), br_(br), bs_(bs), variance_(variance) {}
   std::string kind() const override { return "analytic"; }
   std::string description() const override { return "linear test function"; }
   std::size_t input_dimension() const override { return 2; }
   const std::vector<std::string>& input_names() const override { return names_; }
   Prediction predict(const Eigen::MatrixXd& x) const override {
-    return {predict_mean(x), Eigen::VectorXd::Zero(x.rows())};
+    return {predict_mean(x), Eigen::VectorXd::Constant(x.rows(), variance_)};
   }
   Eigen::VectorXd predict_mean(const Eigen::MatrixXd& x) const override {
     return (a_ + br_ * x.col(0).array() + bs_ * x.col(1).array()).matrix();
@@ -64,7 +65,7 @@ class Linear final : public SurrogateModel {
   double at(double r, double s) const { return a_ + br_ * r + bs_ * s; }
 
  private:
-  double a_, br_, bs_;
+  double a_, br_, bs_, variance_;
   std::vector<std::string> names_{"mu_r", "mu_s"};
 };
 
@@ -243,6 +244,52 @@ TEST(DiagnosisVerdict, TheCalibratedTestDecidesWhetherAnythingIsMissing) {
   EXPECT_EQ(v.outcome, "reproduced");
   EXPECT_TRUE(v.chosen.empty());
   EXPECT_NE(v.summary.find("not calibrated"), std::string::npos);
+}
+
+// (d) the design follows the recordings: a fit on a bound that can move extends it by half
+//     the range; a lower bound of 0 is physical and stays; surrogates less sure than one DEM
+//     run at the fit densify the box around it; a sure fit inside the box asks for nothing.
+TEST(DiagnosisDesignExtension, AFitOnABoundOrUnsureSurrogatesExtendTheDesign) {
+  const std::vector<calibrate::ParameterBounds> b = {{"mu_r", 0.0, 0.6}, {"mu_s", 0.2, 0.9}};
+  calibrate::Target t;
+  t.setup = "sandglass";
+  t.observable = "discharge_time_s";
+  t.model = std::make_shared<Linear>(1.0, 0.5, 2.0, 0.0);
+  const std::vector<calibrate::Target> sure = {t};
+
+  auto e = study::design_extension(b, Eigen::Vector2d(0.3, 0.9), sure, {0.02}, {true}, 16);
+  EXPECT_TRUE(e.needed);
+  EXPECT_DOUBLE_EQ(e.bounds[1].upper, 0.9 + 0.35);
+  EXPECT_DOUBLE_EQ(e.bounds[0].upper, 0.6);
+  EXPECT_EQ(e.points, 16);
+  ASSERT_EQ(e.reasons.size(), 1u);
+  EXPECT_NE(e.reasons[0].find("upper bound"), std::string::npos);
+
+  e = study::design_extension(b, Eigen::Vector2d(0.0, 0.5), sure, {0.02}, {true}, 16);
+  EXPECT_FALSE(e.needed);
+  EXPECT_DOUBLE_EQ(e.bounds[0].lower, 0.0);
+  ASSERT_EQ(e.reasons.size(), 1u);
+  EXPECT_NE(e.reasons[0].find("physical"), std::string::npos);
+
+  e = study::design_extension(b, Eigen::Vector2d(0.3, 0.2), sure, {0.02}, {true}, 16);
+  EXPECT_TRUE(e.needed);
+  EXPECT_DOUBLE_EQ(e.bounds[1].lower, 0.0);  // 0.2 - 0.35, not below 0
+
+  calibrate::Target unsure = t;
+  unsure.model = std::make_shared<Linear>(1.0, 0.5, 2.0, 0.05 * 0.05);
+  e = study::design_extension(b, Eigen::Vector2d(0.3, 0.5), {unsure}, {0.02}, {true}, 16);
+  EXPECT_TRUE(e.needed);
+  EXPECT_DOUBLE_EQ(e.bounds[0].upper, 0.6);  // the box stays; its points go near the fit
+  EXPECT_NEAR(e.design_box[0].lower, 0.15, 1e-12);
+  EXPECT_NEAR(e.design_box[0].upper, 0.45, 1e-12);
+  EXPECT_NEAR(e.design_box[1].upper, 0.675, 1e-12);
+  // A held-out target's surrogate does not count.
+  EXPECT_FALSE(
+      study::design_extension(b, Eigen::Vector2d(0.3, 0.5), {unsure}, {0.02}, {false}, 16).needed);
+  EXPECT_FALSE(
+      study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {0.02}, {true}, 16).needed);
+  EXPECT_THROW(study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {}, {true}, 16),
+               std::invalid_argument);
 }
 
 }  // namespace
