@@ -582,9 +582,19 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
   calibrate::ScatterUncertainty su;
   su.degrees_of_freedom = t.scatter_degrees_of_freedom;
   const calibrate::CalibrationProblem problem(bounds, used);
-  t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
-                                                t.run_correlation,
-                                                calibrate::DetectionOptions{alpha}, 20, su);
+  try {
+    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
+                                                  t.run_correlation,
+                                                  calibrate::DetectionOptions{alpha}, 20, su);
+  } catch (const std::runtime_error&) {
+    // A correlation that is not positive definite (spurious pairs kept): the targets are
+    // tested as independent rather than not at all.
+    t.run_correlation = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(used.size()),
+                                                  static_cast<Eigen::Index>(used.size()));
+    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
+                                                  t.run_correlation,
+                                                  calibrate::DetectionOptions{alpha}, 20, su);
+  }
   return t;
 }
 
