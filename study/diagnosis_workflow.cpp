@@ -748,6 +748,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   const fs::path dir = study_directory(o.output_dir, study.name);
   const std::vector<calibrate::Target> pooled_targets = calibration_targets(study, dir, recordings);
   DoeCsv base_table = read_doe_csv(dir / "doe.csv");
+  const std::size_t base_design_runs = base_table.rows.size();
 
   calibrate::DiagnosisOptions opt;
   opt.alpha = dc.alpha;
@@ -1009,6 +1010,8 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double cpu = cpu_seconds() - cpu_started;
+  cost.push_back("DEM runs of the study's own design (run or found by step 1): " +
+                 std::to_string(base_design_runs) + ".");
   cost.push_back("DEM runs executed by this diagnosis: " + std::to_string(executed) +
                  " (runs already in the stores were reused); CPU time " + seconds_text(cpu) +
                  ", wall time " + seconds_text(elapsed) + " (the study's own pipeline included).");
@@ -1039,6 +1042,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     j["design_extension"]["bounds"] = box;
   }
   j["dem_runs_executed"] = executed;
+  j["dem_runs_base_design"] = base_design_runs;
   j["cpu_time_s"] = cpu;
   j["wall_time_s"] = elapsed;
   outcome.json = report_dir / "diagnosis.json";
