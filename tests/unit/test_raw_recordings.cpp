@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <string>
 
@@ -190,6 +192,65 @@ TEST(RawRecordings, BadFilesAreRefusedAtLineAndColumn) {
   EXPECT_EQ(refused("\xEF\xBB\xBF# laser line\nposition_m,height_m\n0,0.01\n1,\n2,0.02\n3,0.01\n4,0\n",
                     false),
             "accepted");
+}
+
+// A small deterministic fuzz in the suite (fuzz/fuzz_raw_recordings.cpp is the libFuzzer
+// harness): random rows, some of them corrupted. A file without a corrupted row must be read
+// and measured (the readers are not stricter than their format); one with a corrupted row
+// gives a ConfigError; nothing else escapes, and nothing crashes.
+TEST(RawRecordings, NoiseIsRefusedOrMeasuredNeverCrashes) {
+  const std::string junk[] = {"x", "", "1,2,3", "nan", "inf", "-1", "1e999", "\"", "#", ",,"};
+  std::uint64_t state = 12345;
+  const auto next = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<std::size_t>(state >> 33);
+  };
+  const auto uniform = [&] { return static_cast<double>(next() % 100000) / 100000.0; };
+  int clean = 0, measured = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const bool profile = k % 2 == 1;
+    std::ostringstream text;
+    text.precision(9);
+    text << (profile ? "position_m,height_m\n" : "time_s,discharged_mass_kg\n");
+    const std::size_t rows = 4 + next() % 60;
+    bool corrupted = false;
+    double t = 0.0, m = 0.0;
+    for (std::size_t i = 0; i < rows; ++i) {
+      if (next() % 50 == 0) {
+        const std::string& j = junk[next() % 10];
+        const bool first = next() % 2 == 0;
+        // A line starting with # is a comment, an empty height a position without a reading:
+        // legal; everything else here is not.
+        const bool legal = (first && j == "#") || (!first && profile && j.empty());
+        corrupted = corrupted || !legal;
+        text << (first ? j + ",1" : "1," + j) << "\n";
+        continue;
+      }
+      if (profile) {
+        text << (uniform() - 0.5) * 0.1 << "," << uniform() * 0.03 << "\n";
+      } else {
+        t += 1e-3 + uniform() * 0.05;
+        m = std::min(0.5, m + uniform() * 0.02);
+        text << t << "," << m << "\n";
+      }
+    }
+    if (!corrupted) ++clean;
+    try {
+      std::istringstream in(text.str());
+      if (profile) {
+        const auto p = read_surface_profile_csv(in, "p.csv");
+        (void)measure_profile(p, 5e-4, 1e-4);
+      } else {
+        const auto s = read_mass_series_csv(in, "m.csv", 0.5);
+        (void)measure_mass_series(s, 0.5, 1e-3, 1e-3);
+      }
+      ++measured;
+    } catch (const ConfigError& e) {
+      EXPECT_TRUE(corrupted) << "a clean file was refused: " << e.what() << "\n" << text.str();
+    }
+  }
+  EXPECT_GT(clean, 500);
+  EXPECT_GE(measured, clean);
 }
 
 }  // namespace
