@@ -248,7 +248,8 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // reported as a missing one.
   for (const char* k :
        {"study", "material", "wall_material", "contact", "interaction", "air", "protocol",
-        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis", "engine"})
+        "apparatus", "output", "design", "surrogate", "calibration", "diagnosis", "engine",
+        "raw_recordings"})
     root.has(k);
   root.finish();
 
@@ -444,6 +445,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
     std::vector<std::string> setups;
     for (const auto& a : out.apparatus) setups.push_back(a.name);
     out.diagnosis = read_diagnosis(root, setups);
+    out.raw_recordings = read_raw_recordings(root, setups, doc.file);
   }
 
   // [engine]
@@ -489,6 +491,7 @@ toml::table resolved_for(const StudyConfig& study, const std::string& apparatus)
   t.erase("surrogate");
   t.erase("calibration");
   t.erase("diagnosis");  // like the three above: it does not change a run, so not its hash
+  t.erase("raw_recordings");  // the same
   if (toml::table* apps = t["apparatus"].as_table()) {
     toml::table only;
     if (const toml::node* a = apps->get(apparatus)) only.insert(apparatus, *a);

@@ -170,6 +170,9 @@
 //   (config/calibration_config.hpp) recordings = "recordings.csv"         # relative to this file;
 //   further keys there
 //
+//   [raw_recordings.sandglass]            # opt; each repeat's h(x) and m(t) as CSV, measured as
+//   profiles = [...]  mass_series = [...] #   the runs are (config/raw_recordings.hpp)
+//
 // Overrides (`--set key=value`) address keys by dotted path as for plain configs
 // (config/simulation_config.hpp), e.g. --set apparatus.sandglass.orifice_diameter_m=0.01.
 // Aliases name the calibrated pair the way the paper does, and the parameters
@@ -191,6 +194,7 @@
 #include "config/design_config.hpp"
 #include "config/diagnosis_config.hpp"
 #include "config/engine_config.hpp"
+#include "config/raw_recordings.hpp"
 #include "config/simulation_config.hpp"
 #include "config/surrogate_config.hpp"
 #include "config/toml_reader.hpp"
@@ -244,6 +248,9 @@ struct StudyConfig {
   // [engine], when the study has one (config/engine_config.hpp): absent or
   // kind = "demcal" runs demcal's own engine.
   std::optional<EngineConfig> engine;
+  // [raw_recordings.<setup>], when the study has it (config/raw_recordings.hpp): profiles
+  // and m(t) series measured as the runs are, added to the recordings.
+  std::optional<RawRecordingsConfig> raw_recordings;
   // The whole config after overrides, with every default written in.
   toml::table resolved;
 };

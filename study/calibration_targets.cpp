@@ -51,7 +51,19 @@ std::vector<calibrate::Recording> study_recordings(const StudyConfig& study) {
     throw ConfigError(study.file + ": the study has no [calibration] table (recordings = \"...\")");
   std::vector<std::string> setups;
   for (const auto& a : study.apparatus) setups.push_back(a.name);
-  return read_recordings_csv(study.calibration->recordings, setups);
+  std::vector<calibrate::Recording> all = read_recordings_csv(study.calibration->recordings, setups);
+  if (!study.raw_recordings) return all;
+  // The raw series measured as the runs are (config/raw_recordings.hpp), beside the numbers.
+  for (const auto& r : to_recordings(measure_raw_recordings(*study.raw_recordings))) {
+    for (const auto& a : all)
+      if (a.setup == r.setup && a.observable == r.observable)
+        throw ConfigError(study.calibration->recordings.string() + ":" + std::to_string(a.line) +
+                          ": " + r.setup + " " + r.observable +
+                          " is also measured from [raw_recordings." + r.setup +
+                          "]; give it once");
+    all.push_back(r);
+  }
+  return all;
 }
 
 std::vector<calibrate::Target> calibration_targets(

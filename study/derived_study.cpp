@@ -6,6 +6,16 @@
 
 namespace demcal::study {
 
+std::vector<DerivedParameter> base_design_parameters(const config::DesignConfig& design) {
+  std::vector<DerivedParameter> out;
+  const auto& params = design.spec.parameters;
+  for (std::size_t i = 0; i < params.size(); ++i)
+    out.push_back({params[i].name, params[i].lower, params[i].upper,
+                   i < design.tied_paths.size() ? design.tied_paths[i]
+                                                : std::vector<std::string>{}});
+  return out;
+}
+
 std::string derived_study_text(const DerivedStudyFile& file) {
   using config::shortest_decimal;
   using config::toml_key_text;

@@ -7,6 +7,8 @@
 // The [design] table is written by hand, not through toml++: a TOML table is
 // ordered by key, and a design's columns follow the order written.
 
+#include "config/design_config.hpp"
+
 #include <toml++/toml.h>
 
 #include <cstdint>
@@ -40,6 +42,10 @@ struct DerivedStudyFile {
   toml::table study;                // every table but [design]
   DerivedDesignTable design;
 };
+
+// The base study's [design] parameters as a derived study writes them: name, range and
+// every key that follows the parameter (also_sets), in the written order.
+std::vector<DerivedParameter> base_design_parameters(const config::DesignConfig& design);
 
 // The file's text: the header comments, the study's tables, then [design].
 std::string derived_study_text(const DerivedStudyFile& file);

@@ -18,10 +18,13 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 #include <tuple>
+
+#include <sys/resource.h>
 
 namespace demcal::study {
 
@@ -105,11 +108,11 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study,
 // candidate's, as the text of a study file (study/derived_study.hpp).
 std::string derived_study(const StudySource& source, const std::string& name,
                           const ResolvedCandidate& c,
-                          const std::vector<calibrate::ParameterBounds>& base,
-                          DerivedDesignTable design) {
+                          const std::vector<DerivedParameter>& base, DerivedDesignTable design) {
   ConfigDocument doc = source.document();
   toml::table& t = doc.table;
-  for (const char* k : {"design", "calibration", "diagnosis", "output"}) t.erase(k);
+  for (const char* k : {"design", "calibration", "diagnosis", "output", "raw_recordings"})
+    t.erase(k);
   {
     // Keep the seed and threads: replicates share the base design's seeds
     // (common random numbers), so a probe differs from the base by the physics.
@@ -127,12 +130,92 @@ std::string derived_study(const StudySource& source, const std::string& name,
                  "Run it again with `demcal doe` on this file; edits are overwritten by the next "
                  "diagnosis."};
   file.study = t;
-  for (const auto& p : base) design.parameters.push_back({p.name, p.lower, p.upper, {}});
+  // The base design's parameters with every key that follows them (also_sets: mu_s tied to
+  // the walls' friction), so that a probe moves what the base design moved.
+  for (const auto& p : base) design.parameters.push_back(p);
   // The candidate's other keys follow its parameter (the grains' and the walls' surface energy).
   design.parameters.push_back(
       {c.entry->keys.front(), c.lower, c.upper, {c.entry->keys.begin() + 1, c.entry->keys.end()}});
   file.design = std::move(design);
   return derived_study_text(file);
+}
+
+// The base study with a [design] of its own (no candidate switched on): the extension of
+// the base design when the fit sits on its bound or its surrogates are unsure there.
+std::string base_extension_study(const StudySource& source, const std::string& name,
+                                 DerivedDesignTable design) {
+  ConfigDocument doc = source.document();
+  toml::table& t = doc.table;
+  for (const char* k : {"design", "calibration", "diagnosis", "output", "raw_recordings"})
+    t.erase(k);
+  toml::table s = t["study"].as_table() ? *t["study"].as_table() : toml::table{};
+  s.insert_or_assign("name", name);
+  t.insert_or_assign("study", std::move(s));
+  DerivedStudyFile file;
+  file.header = {"Written by `demcal diagnose`: the base design extended where the base fit "
+                 "needs it (a bound, or surrogates less sure than the DEM's scatter).",
+                 "Run it again with `demcal doe` on this file; edits are overwritten by the next "
+                 "diagnosis."};
+  file.study = t;
+  file.design = std::move(design);
+  return derived_study_text(file);
+}
+
+// Two design tables of the same parameters as one: the second's points numbered after the
+// first's.
+DoeCsv merged_tables(const DoeCsv& a, const DoeCsv& b) {
+  if (a.parameter_names != b.parameter_names)
+    throw ConfigError(b.file + ": its parameters differ from " + a.file + "'s");
+  DoeCsv m = a;
+  int offset = 0;
+  for (const auto& r : a.rows) offset = std::max(offset, r.point + 1);
+  for (const auto& r : b.rows) {
+    DoeCsvRow row;
+    row.line = r.line;
+    row.point = r.point + offset;
+    row.replicate = r.replicate;
+    row.seed = r.seed;
+    row.apparatus = r.apparatus;
+    row.parameters = r.parameters;
+    row.status = r.status;
+    row.hash = r.hash;
+    for (const auto& name : a.observable_names) {
+      const int k = b.observable_index(name);
+      row.observables.push_back(k < 0 ? std::numeric_limits<double>::quiet_NaN()
+                                      : r.observables[static_cast<std::size_t>(k)]);
+    }
+    m.rows.push_back(std::move(row));
+  }
+  return m;
+}
+
+// The runs of one setup and observable of a design table, for a surrogate over `b`.
+surrogate::ReplicatedData base_data(const DoeCsv& t, const std::string& setup,
+                                    const std::string& observable,
+                                    const std::vector<calibrate::ParameterBounds>& b) {
+  surrogate::ReplicatedData d;
+  for (const auto& p : b) {
+    d.input_names.push_back(p.name);
+    d.lower.push_back(p.lower);
+    d.upper.push_back(p.upper);
+  }
+  d.output_name = observable;
+  const int k = t.observable_index(observable);
+  std::vector<const DoeCsvRow*> rows;
+  for (const auto& r : t.rows)
+    if (k >= 0 && r.apparatus == setup && r.status == "ok" &&
+        std::isfinite(r.observables[static_cast<std::size_t>(k)]))
+      rows.push_back(&r);
+  const auto p = static_cast<Eigen::Index>(b.size());
+  d.x.resize(static_cast<Eigen::Index>(rows.size()), p);
+  d.y.resize(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (Eigen::Index j = 0; j < p; ++j)
+      d.x(static_cast<Eigen::Index>(i), j) = rows[i]->parameters[static_cast<std::size_t>(j)];
+    d.y(static_cast<Eigen::Index>(i)) = rows[i]->observables[static_cast<std::size_t>(k)];
+    d.group.push_back(rows[i]->point);
+  }
+  return d;
 }
 
 // Writes the derived study (only when its text changed: the file's time stays
@@ -231,6 +314,56 @@ calibrate::SetupVariables setup_variables(const StudyConfig& study,
   return out;
 }
 
+// CPU seconds of this process and of the children it waited for (DEM runs in threads or
+// in processes of their own).
+double cpu_seconds() {
+  double total = 0.0;
+  for (const int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    if (getrusage(who, &u) != 0) continue;
+    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return total;
+}
+
+// The design's runs of one setup and observable, point by point in replicate order: the
+// scatter's and the correlation's raw material. Targets of one setup are paired run by run
+// (calibrate/correlated_detection.hpp), so a run without a value leaves the point's list
+// shorter and the pair uncorrelated rather than misaligned.
+std::vector<calibrate::ReplicatePoint> replicate_points(const DoeCsv& t, const std::string& setup,
+                                                        const std::string& observable,
+                                                        std::size_t parameters) {
+  const int k = t.observable_index(observable);
+  if (k < 0 || t.parameter_names.size() < parameters) return {};
+  std::map<int, std::vector<const DoeCsvRow*>> by_point;
+  for (const auto& r : t.rows)
+    if (r.apparatus == setup && r.status == "ok") by_point[r.point].push_back(&r);
+  std::vector<calibrate::ReplicatePoint> out;
+  for (auto& [point, rows] : by_point) {
+    std::sort(rows.begin(), rows.end(),
+              [](const auto* a, const auto* b) { return a->replicate < b->replicate; });
+    calibrate::ReplicatePoint p;
+    p.x.resize(static_cast<Eigen::Index>(parameters));
+    for (std::size_t j = 0; j < parameters; ++j)
+      p.x(static_cast<Eigen::Index>(j)) = rows.front()->parameters[j];
+    for (const auto* r : rows) {
+      const double v = r->observables[static_cast<std::size_t>(k)];
+      if (std::isfinite(v)) p.values.push_back(v);
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+// Degrees of freedom of a replicate scatter: runs minus points, over points with two runs.
+int scatter_dof(const std::vector<calibrate::ReplicatePoint>& points) {
+  int dof = 0;
+  for (const auto& p : points)
+    if (p.values.size() >= 2) dof += static_cast<int>(p.values.size()) - 1;
+  return dof;
+}
+
 std::string seconds_text(double s) {
   std::ostringstream o;
   o.precision(3);
@@ -239,16 +372,61 @@ std::string seconds_text(double s) {
 }
 
 void write_report(const fs::path& dir, const std::string& study_name,
-                  const calibrate::DiscrepancyDiagnosis& d,
+                  const calibrate::DiscrepancyDiagnosis& d, const BaseFitTest& test,
+                  const calibrate::DiscrepancyJudgement& judgement, const DiagnosisVerdict& verdict,
+                  const std::vector<std::string>& recording_lines,
+                  const std::vector<std::string>& design_lines,
                   const std::vector<std::string>& cost_lines, const fs::path& json_file) {
   using namespace calibrate;
   fs::create_directories(dir);
   HtmlReport r("demcal diagnosis: " + study_name);
   r.heading("Verdict", 2);
-  r.paragraph(d.summary);
+  r.paragraph(verdict.summary);
+  if (judgement.available && judgement.decision.verdict == Explanation::discrepancy) {
+    const DiscrepancyEvidence& e = judgement.discrepancy;
+    std::vector<std::vector<std::string>> rows;
+    for (std::size_t k = 0; k < e.parameter_names.size(); ++k)
+      rows.push_back({e.parameter_names[k], format_number(e.theta(static_cast<Eigen::Index>(k))),
+                      format_number(e.base_lower[k]) + " to " + format_number(e.base_upper[k]),
+                      format_number(e.lower[k]) + " to " + format_number(e.upper[k])});
+    r.table({"parameter", "value with the discrepancy", "95 % interval, base model",
+             "95 % interval, widened by the discrepancy"},
+            rows, "The calibrated parameters, their regions widened by the discrepancy");
+    std::vector<std::vector<std::string>> trows;
+    for (const auto& t : e.targets)
+      trows.push_back({t.setup, t.observable, format_number(t.mean), format_number(t.sd),
+                       format_number(t.mean / t.sigma_total), t.named ? "yes" : "no"});
+    r.table({"setup", "observable", "discrepancy", "sd", "in sigma_total", "stands out"}, trows,
+            "The discrepancy's posterior at each recording (recording minus model)");
+  }
   for (const auto& n : d.notes) r.paragraph(n);
+  if (!judgement.available && !judgement.note.empty()) r.paragraph(judgement.note);
+
+  if (!recording_lines.empty()) {
+    r.heading("Recordings read from raw series", 2);
+    for (const auto& l : recording_lines) r.paragraph(l);
+  }
+
+  if (!design_lines.empty()) {
+    r.heading("The base design, extended before any candidate", 2);
+    for (const auto& l : design_lines) r.paragraph(l);
+  }
 
   r.heading("1. Detect: does the base model reproduce the recordings?", 2);
+  r.paragraph(test.correlated.detection.statement +
+              " (targets read off the same runs whitened by their replicate correlation, the "
+              "DEM scatter taken where the fit lands, p-value predictive over a scatter "
+              "estimated with " +
+              std::to_string(test.scatter_degrees_of_freedom) +
+              " degrees of freedom; docs/detection_calibration.md)");
+  r.table({"test", "chi-square", "dof", "chi2/dof", "p-value"},
+          {{"correlated, local scatter (decides)", format_number(test.correlated.chi_square),
+            std::to_string(test.correlated.detection.degrees_of_freedom),
+            format_number(test.correlated.detection.chi_square_per_dof),
+            p_value_text(test.correlated.detection.p_value)},
+           {"independent targets (for comparison)", format_number(d.detection.chi_square),
+            std::to_string(d.detection.degrees_of_freedom),
+            format_number(d.detection.chi_square_per_dof), p_value_text(d.detection.p_value)}});
   r.paragraph(d.detection.statement);
   r.table({"chi-square", "targets", "parameters", "dof", "chi2/dof", "p-value", "alpha"},
           {{format_number(d.detection.chi_square), std::to_string(d.detection.targets),
@@ -328,6 +506,23 @@ void write_report(const fs::path& dir, const std::string& study_name,
     r.table({"candidate", "parameter", "value", "95 % interval", "chi2/dof", "BIC", "log evidence",
              "Bayes factor over base"},
             frows, "The leading candidates recalibrated with their parameter free");
+  if (judgement.available) {
+    const auto& dec = judgement.decision;
+    r.paragraph("Against a generic model discrepancy (a bias per observable and a Gaussian process "
+                "over the setup variables; docs/model_discrepancy.md): log evidence " +
+                format_number(judgement.discrepancy.evidence.log_evidence) +
+                " against the base model's " +
+                format_number(judgement.discrepancy.log_evidence_base) + ". " +
+                (dec.best_candidate.empty()
+                     ? std::string("No candidate has an evidence.")
+                     : "The best candidate, " + dec.best_candidate + ", has log Bayes factor " +
+                           format_number(dec.log_bayes_factor_over_discrepancy) +
+                           " over the discrepancy and " +
+                           format_number(dec.log_bayes_factor_over_base) +
+                           " over the base model") +
+                "; a physics is named only at " + format_number(dec.required_log_bayes_factor) +
+                " or more over both.");
+  }
 
   if (!d.held_out_targets.empty()) {
     r.heading("Held-out recordings, predicted before and after", 2);
@@ -348,20 +543,201 @@ void write_report(const fs::path& dir, const std::string& study_name,
 
 }  // namespace
 
+BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
+                          const std::vector<calibrate::Target>& targets,
+                          const std::vector<std::vector<calibrate::ReplicatePoint>>& replicates,
+                          const std::vector<int>& repeats, const std::vector<bool>& fitted,
+                          double alpha, const calibrate::CalibrationOptions& calibration) {
+  if (replicates.size() != targets.size() || repeats.size() != targets.size() ||
+      fitted.size() != targets.size())
+    throw std::invalid_argument("test_base_fit: replicates, repeats and fitted need one entry per "
+                                "target");
+  const auto pick = [&](const std::vector<calibrate::Target>& all) {
+    std::vector<calibrate::Target> out;
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (fitted[i]) out.push_back(all[i]);
+    return out;
+  };
+  // First pass with the scatter pooled over the design, then the scatter where it landed.
+  const auto first = calibrate::calibrate(bounds, pick(targets), calibration);
+  const Eigen::VectorXd theta0 = first.minima.at(0).theta;
+  BaseFitTest t;
+  t.targets = calibrate::with_local_scatter(targets, replicates, repeats, theta0, bounds);
+  for (const auto& points : replicates)
+    t.single_run_scatter.push_back(calibrate::local_replicate_scatter(points, theta0, bounds));
+  const std::vector<calibrate::Target> used = pick(t.targets);
+  t.base = calibrate::calibrate(bounds, used, calibration);
+  std::vector<std::vector<calibrate::ReplicatePoint>> reps;
+  std::vector<std::string> setups;
+  int dof = -1;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (!fitted[i]) continue;
+    reps.push_back(replicates[i]);
+    setups.push_back(targets[i].setup);
+    const int d = scatter_dof(replicates[i]);
+    if (d > 0) dof = dof < 0 ? d : std::min(dof, d);
+  }
+  t.scatter_degrees_of_freedom = std::max(dof, 0);
+  t.run_correlation = calibrate::replicate_correlation(reps, setups);
+  calibrate::ScatterUncertainty su;
+  su.degrees_of_freedom = t.scatter_degrees_of_freedom;
+  const calibrate::CalibrationProblem problem(bounds, used);
+  try {
+    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
+                                                  t.run_correlation,
+                                                  calibrate::DetectionOptions{alpha}, 20, su);
+  } catch (const std::runtime_error&) {
+    // A correlation that is not positive definite (spurious pairs kept): the targets are
+    // tested as independent rather than not at all.
+    t.run_correlation = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(used.size()),
+                                                  static_cast<Eigen::Index>(used.size()));
+    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
+                                                  t.run_correlation,
+                                                  calibrate::DetectionOptions{alpha}, 20, su);
+  }
+  return t;
+}
+
+DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& bounds,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<calibrate::Target>& targets,
+                                 const std::vector<double>& single_run_scatter,
+                                 const std::vector<bool>& fitted, int points) {
+  if (static_cast<std::size_t>(theta.size()) != bounds.size() ||
+      single_run_scatter.size() != targets.size() || fitted.size() != targets.size())
+    throw std::invalid_argument("design_extension: theta needs one value per parameter, "
+                                "single_run_scatter and fitted one entry per target");
+  DesignExtension e;
+  e.bounds = bounds;
+  e.points = points;
+  e.centre.assign(theta.data(), theta.data() + theta.size());
+  bool moved = false;
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const double lo = bounds[k].lower, up = bounds[k].upper, range = up - lo;
+    const double v = theta(static_cast<Eigen::Index>(k));
+    const std::string at = bounds[k].name + " = " + format_number(v);
+    if (v - lo <= 0.01 * range) {
+      if (lo > 0.0) {
+        e.bounds[k].lower = std::max(0.0, lo - 0.5 * range);
+        moved = true;
+        e.reasons.push_back("the base fit sits on the design's lower bound (" + at +
+                            "): the design is extended down to " +
+                            format_number(e.bounds[k].lower));
+      } else {
+        e.reasons.push_back("the base fit sits on the lower bound " + format_number(lo) + " of " +
+                            bounds[k].name + ", taken as physical: not extended");
+      }
+    }
+    if (up - v <= 0.01 * range) {
+      e.bounds[k].upper = up + 0.5 * range;
+      moved = true;
+      e.reasons.push_back("the base fit sits on the design's upper bound (" + at +
+                          "): the design is extended up to " + format_number(e.bounds[k].upper));
+    }
+  }
+  bool unsure = false;
+  Eigen::MatrixXd at(1, theta.size());
+  at.row(0) = theta.transpose();
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (!fitted[i] || !std::isfinite(single_run_scatter[i]) || !targets[i].model) continue;
+    const double sd = std::sqrt(std::max(0.0, targets[i].model->predict(at).variance(0)));
+    if (sd > single_run_scatter[i]) {
+      unsure = true;
+      e.reasons.push_back("the surrogate of " + targets[i].setup + " " + targets[i].observable +
+                          " is less sure at the fit (sd " + format_number(sd) +
+                          ") than one DEM run scatters (" + format_number(single_run_scatter[i]) +
+                          ")");
+    }
+  }
+  e.needed = moved || unsure;
+  e.design_box = e.bounds;
+  if (unsure && !moved)
+    // Densify around the fit: a quarter of each range either side, inside the box.
+    for (std::size_t k = 0; k < bounds.size(); ++k) {
+      const double range = bounds[k].upper - bounds[k].lower;
+      const double v = theta(static_cast<Eigen::Index>(k));
+      e.design_box[k].lower = std::max(bounds[k].lower, v - 0.25 * range);
+      e.design_box[k].upper = std::min(bounds[k].upper, v + 0.25 * range);
+    }
+  return e;
+}
+
+DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
+                                  const calibrate::DiscrepancyDiagnosis& d,
+                                  const calibrate::DiscrepancyJudgement& j) {
+  using calibrate::Explanation;
+  DiagnosisVerdict v;
+  if (!test.mismatch()) {
+    v.outcome = test.verdict == calibrate::MismatchVerdict::untestable ? "untestable" : "reproduced";
+    v.explanation = "none_needed";
+    v.summary = test.statement;
+    if (d.detection.mismatch())
+      v.summary += " (The test that takes the targets as independent gives p = " +
+                   calibrate::p_value_text(d.detection.p_value) +
+                   "; it is not calibrated when targets share runs, docs/detection_calibration.md.)";
+    return v;
+  }
+  const std::string located = d.location_available ? " " + d.location.statement : std::string();
+  if (!j.available) {
+    // Without the competitor no physics can be shown to beat it: nothing is named.
+    v.outcome = "unexplained";
+    v.explanation = "discrepancy";
+    v.summary = "The recordings differ from the model, and no physics is named: " + j.note + " " +
+                test.statement + located;
+    return v;
+  }
+  if (j.decision.verdict == Explanation::physics) {
+    v.outcome = "explained";
+    v.explanation = "physics";
+    v.chosen = j.decision.physics;
+    v.summary = test.statement + located + " " + j.decision.statement;
+    for (const auto& f : d.fits)
+      if (f.name == v.chosen)
+        v.summary += " " + f.parameter.name + " = " + calibrate::format_number(f.phi) + " (" +
+                     calibrate::format_number(f.phi_lower) + " to " +
+                     calibrate::format_number(f.phi_upper) +
+                     "); with it chi2/dof = " + calibrate::format_number(f.chi_square_per_dof) +
+                     ".";
+    return v;
+  }
+  v.outcome = "unexplained";
+  v.explanation = "discrepancy";
+  v.summary = j.decision.statement + " " + test.statement + located;
+  return v;
+}
+
 DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisSteps& steps,
                                 ProgressObserver& observer) {
   const auto started = std::chrono::steady_clock::now();
+  const double cpu_started = cpu_seconds();
   StudyConfig study = load_study_config(o.study, o.overrides);
   if (!study.diagnosis) throw ConfigError(study.file + ": the study has no [diagnosis] table");
   if (!study.calibration)
     throw ConfigError(study.file + ": the study has no [calibration] table (recordings)");
   const DiagnosisConfig& dc = *study.diagnosis;
-  const auto bounds = design_bounds(study);
+  auto bounds = design_bounds(study);
   // Everything a candidate needs is checked before any DEM run.
   std::vector<ResolvedCandidate> candidates;
   for (const auto& name : dc.candidates)
     candidates.push_back(resolve(*find_physics_candidate(name), study, dc));
   const auto recordings = study_recordings(study);
+  // What the raw series gave, stated in the report (config/raw_recordings.hpp).
+  std::vector<std::string> raw_lines;
+  nlohmann::json raw_json = nlohmann::json::array();
+  if (study.raw_recordings) {
+    const auto measured = measure_raw_recordings(*study.raw_recordings);
+    raw_lines = raw_recording_lines(measured);
+    for (const auto& m : measured)
+      raw_json.push_back({{"setup", m.setup},
+                          {"observable", m.observable},
+                          {"values", m.values},
+                          {"reading_sigma", m.reading_sigma},
+                          {"mean", m.mean},
+                          {"sigma", m.sigma},
+                          {"repeats_sd", std::isfinite(m.repeats_sd) ? nlohmann::json(m.repeats_sd)
+                                                                     : nlohmann::json()},
+                          {"left_out", m.skipped}});
+  }
 
   DiagnosisOutcome outcome;
   // 1. The study's own pipeline.
@@ -370,8 +746,9 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     return outcome;
   }
   const fs::path dir = study_directory(o.output_dir, study.name);
-  const std::vector<calibrate::Target> targets = calibration_targets(study, dir, recordings);
-  const DoeCsv base_table = read_doe_csv(dir / "doe.csv");
+  const std::vector<calibrate::Target> pooled_targets = calibration_targets(study, dir, recordings);
+  DoeCsv base_table = read_doe_csv(dir / "doe.csv");
+  const std::size_t base_design_runs = base_table.rows.size();
 
   calibrate::DiagnosisOptions opt;
   opt.alpha = dc.alpha;
@@ -379,29 +756,106 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   opt.required_bayes_factor = dc.bayes_factor_threshold;
   opt.calibration.grid_points_per_axis = study.calibration->grid_points_per_axis;
   opt.calibration.multistart_points = study.calibration->multistart_points;
-  for (const auto& t : targets)
+  for (const auto& t : pooled_targets)
     if (std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) != dc.hold_out.end())
       opt.held_out.push_back({t.setup, t.observable});
   std::vector<std::string> setups;
   for (const auto& a : study.apparatus) setups.push_back(a.name);
   const calibrate::SetupVariables variables = setup_variables(study, setups);
 
-  // 2. Detect, before spending DEM runs on candidates.
-  std::vector<calibrate::Target> fitted;
-  for (const auto& t : targets)
-    if (std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) == dc.hold_out.end())
-      fitted.push_back(t);
-  observer.on_message("calibrating the base model on " + std::to_string(fitted.size()) +
+  // 2. Detect, before spending DEM runs on candidates: the scatter where the fit lands and
+  // the test that knows which targets share runs (docs/detection_calibration.md).
+  std::vector<std::vector<calibrate::ReplicatePoint>> replicates;
+  std::vector<int> repeats;
+  std::vector<bool> fitted_mask;
+  for (const auto& t : pooled_targets) {
+    replicates.push_back(replicate_points(base_table, t.setup, t.observable, bounds.size()));
+    const auto rec =
+        std::find_if(recordings.begin(), recordings.end(), [&](const calibrate::Recording& r) {
+          return r.setup == t.setup && r.observable == t.observable;
+        });
+    repeats.push_back(rec == recordings.end() ? 1 : rec->repeats);
+    fitted_mask.push_back(std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) ==
+                          dc.hold_out.end());
+  }
+  observer.on_message("calibrating the base model on " +
+                      std::to_string(std::count(fitted_mask.begin(), fitted_mask.end(), true)) +
                       " recordings ...");
-  const auto base = calibrate::calibrate(bounds, fitted, opt.calibration);
-  calibrate::DetectionOptions det;
-  det.alpha = dc.alpha;
-  const auto detection = calibrate::detect_mismatch(base, det);
+  BaseFitTest test = test_base_fit(bounds, pooled_targets, replicates, repeats, fitted_mask,
+                                   dc.alpha, opt.calibration);
+  std::vector<DerivedParameter> base_params = base_design_parameters(*study.design);
+  std::size_t executed = 0;
+  DesignExtension extension;
+  if (test.correlated.detection.mismatch()) {
+    // The design follows the recordings: a fit on a bound, or surrogates less sure than the
+    // DEM there, is no ground to name a physics on. Extend, refit the surrogates on the union
+    // of both designs' runs and test again, before any candidate.
+    extension = design_extension(bounds, test.base.minima.at(0).theta, test.targets,
+                                 test.single_run_scatter, fitted_mask, dc.extended_points);
+    if (extension.needed) {
+      for (const auto& r : extension.reasons) observer.on_message(r);
+      observer.on_message("extending the base design before any candidate ...");
+      DerivedDesignTable design;
+      design.kind = "latin_hypercube";
+      design.points = extension.points;
+      design.replicates = std::max(2, study.design->replicates);  // the scatter needs pairs
+      design.seed = 1;
+      std::vector<DerivedParameter> box = base_params;
+      for (std::size_t k = 0; k < box.size(); ++k) {
+        box[k].lower = extension.design_box[k].lower;
+        box[k].upper = extension.design_box[k].upper;
+      }
+      design.parameters = box;
+      const StudySource source = StudySource::read(o.study, o.overrides);
+      const DerivedDesignOutcome d =
+          run_derived(dir / "diagnosis" / "base-extended" / "study.toml",
+                      base_extension_study(source, study.name + "--base-extended", std::move(design)),
+                      steps);
+      executed += d.executed;
+      if (!d.complete) {
+        outcome.outcome = "incomplete";
+        return outcome;
+      }
+      base_table = merged_tables(base_table, read_doe_csv(d.table_csv));
+      bounds = extension.bounds;
+      for (std::size_t k = 0; k < base_params.size(); ++k) {
+        base_params[k].lower = bounds[k].lower;
+        base_params[k].upper = bounds[k].upper;
+      }
+      const surrogate::SurrogateSpec spec =
+          study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
+      std::vector<calibrate::Target> refitted = pooled_targets;
+      for (std::size_t i = 0; i < refitted.size(); ++i) {
+        auto& t = refitted[i];
+        surrogate::FittedSurrogate f;
+        try {
+          f = surrogate::fit_surrogate(base_data(base_table, t.setup, t.observable, bounds), spec);
+        } catch (const std::invalid_argument& e) {
+          throw ConfigError(d.table_csv.string() + ": " + t.setup + " " + t.observable + ": " +
+                            e.what());
+        }
+        const fs::path file = dir / "diagnosis" / "base-extended" / "surrogates" /
+                              (t.setup + "." + t.observable + ".json");
+        fs::create_directories(file.parent_path());
+        dem::write_file_atomically(file, f.to_json().dump(1) + "\n");
+        t.model = f.model;
+        t.sigma_dem = std::isfinite(f.scatter.sd)
+                          ? f.scatter.sd / std::sqrt(static_cast<double>(repeats[i]))
+                          : 0.0;
+        replicates[i] = replicate_points(base_table, t.setup, t.observable, bounds.size());
+      }
+      test = test_base_fit(bounds, refitted, replicates, repeats, fitted_mask, dc.alpha,
+                           opt.calibration);
+      observer.on_message("with the extended design: " + test.correlated.detection.statement);
+    }
+  }
+  const std::vector<calibrate::Target>& targets = test.targets;
+  const calibrate::CalibrationResult& base = test.base;
+  const calibrate::MismatchDetection& detection = test.correlated.detection;
   observer.on_message(detection.statement);
 
   std::vector<calibrate::CandidateModule> modules;
   std::vector<std::string> cost;
-  std::size_t executed = 0;
   if (detection.mismatch()) {
     const StudySource source = StudySource::read(o.study, o.overrides);
     // The base fit, snapped to 1/probe_grid of each range so that a diagnosis
@@ -439,7 +893,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       }
       const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-probe") / "study.toml",
-                      derived_study(source, name, c, bounds, std::move(design)), steps);
+                      derived_study(source, name, c, base_params, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -512,7 +966,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
                           c.entry->name + " ...");
       const DerivedDesignOutcome d =
           run_derived(dir / "diagnosis" / (c.entry->name + "-extended") / "study.toml",
-                      derived_study(source, name, c, bounds, std::move(design)), steps);
+                      derived_study(source, name, c, base_params, std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -541,26 +995,78 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     }
   }
 
-  // 5. The whole comparison.
+  // 5. The whole comparison, then the competitor that is not physics.
   const auto result = calibrate::diagnose_discrepancy(bounds, targets, modules, variables, opt);
+  calibrate::DiscrepancyJudgement judgement =
+      calibrate::judge_against_discrepancy(bounds, targets, opt.held_out, result, variables);
+  if (judgement.available) {
+    // Decided on the calibrated test, not the one that takes the targets as independent.
+    std::vector<calibrate::ModelEvidence> evidences;
+    for (const auto& f : result.fits) evidences.push_back(f.evidence);
+    judgement.decision = calibrate::decide_explanation(detection, result.base_evidence, evidences,
+                                                       judgement.discrepancy);
+  }
+  const DiagnosisVerdict verdict = decide_diagnosis(detection, result, judgement);
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double cpu = cpu_seconds() - cpu_started;
+  cost.push_back("DEM runs of the study's own design (run or found by step 1): " +
+                 std::to_string(base_design_runs) + ".");
   cost.push_back("DEM runs executed by this diagnosis: " + std::to_string(executed) +
-                 " (runs already in the stores were reused); wall time " + seconds_text(elapsed) +
-                 ".");
+                 " (runs already in the stores were reused); CPU time " + seconds_text(cpu) +
+                 ", wall time " + seconds_text(elapsed) + " (the study's own pipeline included).");
   const fs::path report_dir = dir / "reports" / "diagnosis";
   fs::create_directories(report_dir);
   nlohmann::json j = result.to_json();
   j["study"] = study.name;
+  j["outcome"] = verdict.outcome;
+  j["explanation"] = verdict.explanation;
+  j["chosen"] = verdict.chosen.empty() ? nlohmann::json() : nlohmann::json(verdict.chosen);
+  j["summary"] = verdict.summary;
+  j["candidates_outcome"] = calibrate::to_string(result.outcome);
+  j["candidates_summary"] = result.summary;
+  j["detection_independent"] = result.detection.to_json();
+  j["detection"] = test.correlated.detection.to_json();
+  j["detection"]["p_value_known_scatter"] = test.correlated.p_value_known_scatter;
+  j["detection"]["scatter_degrees_of_freedom"] = test.scatter_degrees_of_freedom;
+  j["detection"]["method"] = "correlated, local scatter, predictive p";
+  j["discrepancy_judgement"] = judgement.to_json();
+  j["raw_recordings"] = raw_json;
+  j["design_extension"] = {{"needed", extension.needed},
+                           {"reasons", extension.reasons},
+                           {"points", extension.needed ? extension.points : 0}};
+  if (extension.needed) {
+    nlohmann::json box = nlohmann::json::array();
+    for (const auto& b : extension.bounds)
+      box.push_back({{"name", b.name}, {"lower", b.lower}, {"upper", b.upper}});
+    j["design_extension"]["bounds"] = box;
+  }
   j["dem_runs_executed"] = executed;
+  j["dem_runs_base_design"] = base_design_runs;
+  j["cpu_time_s"] = cpu;
   j["wall_time_s"] = elapsed;
   outcome.json = report_dir / "diagnosis.json";
   dem::write_file_atomically(outcome.json, j.dump(1) + "\n");
-  write_report(report_dir, study.name, result, cost, outcome.json);
+  std::vector<std::string> design_lines;
+  if (extension.needed) {
+    design_lines = extension.reasons;
+    std::string box;
+    for (const auto& b : extension.bounds)
+      box += (box.empty() ? "" : ", ") + b.name + " in [" + format_number(b.lower) + ", " +
+             format_number(b.upper) + "]";
+    design_lines.push_back(std::to_string(extension.points) +
+                           " Latin hypercube points were run (" + (dir / "diagnosis" / "base-extended" / "study.toml").string() +
+                           "); the surrogates were refitted on both designs' runs over " + box +
+                           " and the test above is on them.");
+  }
+  write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, design_lines, cost,
+               outcome.json);
   outcome.report = report_dir / "index.html";
-  outcome.outcome = calibrate::to_string(result.outcome);
-  outcome.summary = result.summary;
+  outcome.outcome = verdict.outcome;
+  outcome.summary = verdict.summary;
   outcome.dem_runs_executed = executed;
+  outcome.cpu_time_s = cpu;
+  outcome.design_extended = extension.needed;
   return outcome;
 }
 

@@ -8,8 +8,12 @@
 // What runs, in order, each step resumable through the run store:
 //   1. the study's own pipeline (`demcal study`): design, runs, surrogates;
 //   2. the base calibration on every recording not held out, and the
-//      chi-square test. When the base model fits, it stops here and says so:
-//      no DEM run is spent on candidates;
+//      calibrated mismatch test (test_base_fit below). When the base model fits,
+//      it stops here and says so: no DEM run is spent on candidates. With a
+//      mismatch, when the fit sits on a design bound or the surrogates there are
+//      less sure than the DEM's scatter (design_extension), the base design is
+//      extended first (<output>/<study>/diagnosis/base-extended/study.toml), the
+//      surrogates refitted on both designs' runs and the test repeated;
 //   3. per candidate, a probe: the DEM at the base fit with the candidate
 //      switched on at its probe value (probe_replicates seeds per setup), so
 //      that the sensitivity of every recording to it is measured, not assumed.
@@ -20,7 +24,10 @@
 //      their parameter (Latin hypercube in (parameters, candidate)), which,
 //      with the base design at the candidate's "off" value, fits surrogates
 //      with the candidate's parameter as one more input;
-//   5. the comparison by evidence, the chosen module, before/after.
+//   5. the comparison by evidence, then against a generic model discrepancy
+//      (calibrate/model_discrepancy.hpp): a physics is named only when it beats
+//      it by the margin (decide_diagnosis below), else the report says first that
+//      no candidate explains the pattern.
 // Each probe and extended design is a study of its own, written to
 //   <output>/<study>/diagnosis/<candidate>-probe/study.toml
 //   <output>/<study>/diagnosis/<candidate>-extended/study.toml
@@ -31,6 +38,10 @@
 // Writes <output>/<study>/reports/diagnosis/index.html (the verdict in words
 // first) and diagnosis.json beside it.
 
+#include "calibrate/correlated_detection.hpp"
+#include "calibrate/discrepancy_diagnosis.hpp"
+#include "calibrate/model_discrepancy.hpp"
+#include "calibrate/scatter_budget.hpp"
 #include "study/progress_observer.hpp"
 
 #include <cstddef>
@@ -66,12 +77,76 @@ struct DiagnosisWorkflowOptions {
   std::filesystem::path output_dir = "out";
 };
 
+// The base model's test as the diagnosis runs it (docs/detection_calibration.md): the
+// targets' DEM scatter taken where the fit lands (the replicate sd pooled with weights
+// that fall off with the distance from the first fit, calibrate/scatter_budget.hpp), the
+// base model refitted with it, and the correlated mismatch test (targets read off the same
+// runs err together; calibrate/correlated_detection.hpp) with its predictive p-value over
+// the estimated scatter, so that its false-alarm rate is the alpha it states.
+struct BaseFitTest {
+  std::vector<calibrate::Target> targets;  // every target, sigma_dem from the local scatter
+  std::vector<double> single_run_scatter;  // per target, at the fit (NaN: no replicates)
+  calibrate::CalibrationResult base;       // on the fitted targets, with the local scatter
+  Eigen::MatrixXd run_correlation;         // of the fitted targets' runs (kept where z >= 2)
+  int scatter_degrees_of_freedom = 0;      // of the replicate scatter (fewest over targets)
+  calibrate::CorrelatedFit correlated;     // its detection gates every DEM run on candidates
+};
+
+// `replicates` and `repeats` have one entry per target (the design's runs of its setup and
+// observable, and the tests its recording is the mean of); `fitted` marks the targets not
+// held out. Throws std::invalid_argument on sizes (as the calibrate functions do).
+BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
+                          const std::vector<calibrate::Target>& targets,
+                          const std::vector<std::vector<calibrate::ReplicatePoint>>& replicates,
+                          const std::vector<int>& repeats, const std::vector<bool>& fitted,
+                          double alpha, const calibrate::CalibrationOptions& calibration);
+
+// Whether the base design must grow before anything is named (issue 19): the base fit sits on
+// a bound of the design (within 1 % of the range) that can move (a lower bound of 0 is taken
+// as physical: frictions, energies, spreads), or a fitted target's surrogate is less sure at
+// the fit than one DEM run scatters (predictive sd > the local single-run scatter). The new
+// box: a bound the fit sits on moved out by half the range (a lower one not below 0); where
+// only the surrogates are unsure, the same box, densified around the fit.
+struct DesignExtension {
+  bool needed = false;
+  std::vector<std::string> reasons;               // in words, for the report
+  std::vector<calibrate::ParameterBounds> bounds;  // the base and extension's union: the new box
+  std::vector<calibrate::ParameterBounds> design_box;  // where the extension's points go
+  std::vector<double> centre;                     // the fit the extension was asked at
+  int points = 0;                                 // of the Latin hypercube
+};
+
+// `single_run_scatter` per target (NaN: none known); `fitted` marks the targets not held out.
+DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& bounds,
+                                 const Eigen::VectorXd& theta,
+                                 const std::vector<calibrate::Target>& targets,
+                                 const std::vector<double>& single_run_scatter,
+                                 const std::vector<bool>& fitted, int points);
+
+// What the diagnosis concludes, by the rule of docs/model_discrepancy.md: no mismatch by
+// the test above -> "reproduced" (or "untestable"); a mismatch -> a physics is named
+// ("explained") only when its evidence beats a generic model discrepancy and the base model
+// by the judgement's margin, else "unexplained" with the discrepancy's statement first
+// (which observables, which setups, how large; the parameters widened by it).
+struct DiagnosisVerdict {
+  std::string outcome;      // reproduced | untestable | explained | unexplained
+  std::string explanation;  // none_needed | physics | discrepancy
+  std::string chosen;       // the physics named; empty unless explained
+  std::string summary;      // what the user reads first
+};
+
+DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
+                                  const calibrate::DiscrepancyDiagnosis& diagnosis,
+                                  const calibrate::DiscrepancyJudgement& judgement);
+
 struct DiagnosisOutcome {
   std::filesystem::path report;  // empty when the diagnosis stopped incomplete
   std::filesystem::path json;
   std::string outcome;  // calibrate::to_string(DiagnosisOutcome), "incomplete" when runs are left
   std::string summary;
   std::size_t dem_runs_executed = 0;  // by the diagnosis itself (probes, extended designs)
+  double cpu_time_s = 0.0;            // of this process while it diagnosed (DEM runs included)
+  bool design_extended = false;       // the base design grew before the candidates
 };
 
 // Reads the study (ConfigError for any input problem, before a DEM run),
