@@ -179,8 +179,8 @@ int main(int argc, char** argv) {
   diagnose_cmd->add_option("--run-store", diag_opts.run_store,
                            std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
-  ExportOptions export_opts;
-  CLI::App* export_cmd = add_export_command(app, export_opts);
+  cli::ExportOptions export_opts;
+  CLI::App* export_cmd = cli::add_export_command(app, export_opts);
 
   std::string schema_name;
   CLI::App* schema_cmd = app.add_subcommand(
@@ -234,7 +234,7 @@ int main(int argc, char** argv) {
       return cli::run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
 
-  if (*export_cmd) return guarded("", [&] { return run_export(export_opts, std::cout, std::cerr); });
+  if (*export_cmd) return guarded("", [&] { return cli::run_export(export_opts, std::cout, std::cerr); });
 
   if (*diagnose_cmd)
     return guarded("", [&] { return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });

@@ -1,5 +1,6 @@
 #include "study/adaptive_campaign.hpp"
 
+#include "io/atomic_file.hpp"
 #include "config/observables.hpp"
 #include "config/study_config.hpp"
 #include "study/calibration_targets.hpp"
@@ -176,7 +177,7 @@ void write_design_history(const std::filesystem::path& study_dir,
   j["parameters"] = outcome.parameter_names;
   j["text"] = outcome.history.to_text(outcome.parameter_names);
   std::filesystem::create_directories(study_dir);
-  write_file_durably(study_dir / "design_history.json", j.dump(2) + "\n");
+  io::write_file_atomically(study_dir / "design_history.json", j.dump(2) + "\n");
 }
 
 }  // namespace demcal::study

@@ -1,5 +1,6 @@
 #include "study/material_export.hpp"
 
+#include "io/atomic_file.hpp"
 #include "config/study_config.hpp"
 #include "config/toml_reader.hpp"
 #include "study/engine_evaluator.hpp"
@@ -164,7 +165,7 @@ MaterialExportOutcome export_material_card(const MaterialExportOptions& o) {
                     : dir / "material" /
                           (study.name + "." + (o.to == "edem-csv" ? "edem" : o.to) + "." + ext);
   if (out.card.has_parent_path()) std::filesystem::create_directories(out.card.parent_path());
-  write_file_durably(out.card, *card.text);
+  io::write_file_atomically(out.card, *card.text);
   return out;
 }
 
