@@ -21,6 +21,7 @@ class CommandSteps final : public study::DiagnosisSteps {
     so.doe.run_store = o_.run_store;
     so.doe.jobs = o_.jobs;
     so.doe.quiet = o_.quiet;
+    so.doe.evaluator = o_.evaluator;
     return !run_study(so, out_, log_).empty();
   }
 
@@ -31,6 +32,7 @@ class CommandSteps final : public study::DiagnosisSteps {
     d.run_store = o_.run_store;
     d.jobs = o_.jobs;
     d.quiet = o_.quiet;
+    d.evaluator = o_.evaluator;
     const DoeOutcome done = run_doe(d, out_, log_);
     return {done.complete(), done.executed, done.table_csv};
   }

@@ -6,6 +6,7 @@
 // this command runs its steps (`demcal study`, `demcal doe`) and prints.
 
 #include "study/diagnosis_workflow.hpp"
+#include "study/run_evaluator.hpp"
 
 #include <filesystem>
 #include <ostream>
@@ -21,6 +22,7 @@ struct DiagnoseOptions {
   std::filesystem::path run_store;  // empty: each study's own; else shared by all (DoeOptions)
   int jobs = 2;
   bool quiet = false;
+  const study::RunEvaluator* evaluator = nullptr;  // null: the DEM (DoeOptions)
 };
 
 using DiagnoseOutcome = study::DiagnosisOutcome;

@@ -203,6 +203,7 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
   run_options.retry_failed = options.retry_failed;
   run_options.stop_after = options.stop_after;
   run_options.cancel = options.cancel;
+  run_options.evaluator = options.evaluator;
   if (plan.design.adaptive) return run_adaptive_doe(plan, store, run_options, options, outcome, out, log, who);
   DesignRunner runner(plan, store, run_options, options.collect);
   const DesignShare& share = runner.share();

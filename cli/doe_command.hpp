@@ -67,6 +67,7 @@ struct DoeOptions {
   // Set from elsewhere to stop the same way (runs in progress are abandoned).
   const std::atomic<bool>* cancel = nullptr;
   ProcessGroup group;
+  const study::RunEvaluator* evaluator = nullptr;  // null: the DEM (DesignRunOptions)
 };
 
 struct DoeOutcome {

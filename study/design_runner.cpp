@@ -2,7 +2,7 @@
 
 #include "config/study_config.hpp"
 #include "dem/simulation.hpp"
-#include "study/engine_evaluator.hpp"
+#include "study/run_evaluator.hpp"
 #include "study/run_record.hpp"
 
 #include <omp.h>
@@ -43,7 +43,7 @@ struct ExecutedRun {
 
 ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
                         const std::function<bool()>& should_stop,
-                        const std::filesystem::path& engine_runs) {
+                        const std::filesystem::path& engine_runs, const RunEvaluator& evaluator) {
   // The plan built this study already (with the study's seed); a failure now
   // is not a result of the run but a fault, and stops the campaign.
   std::optional<StudyConfig> built;
@@ -64,23 +64,22 @@ ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
   // allowed. The default is this worker thread's own.
   omp_set_num_threads(plan.threads_per_run);
 
-  dem::Apparatus& apparatus = *chosen.apparatus;
-  const dem::Simulation& sim = apparatus.simulation();
+  const dem::Simulation& sim = chosen.apparatus->simulation();
   std::string phase;
   const dem::StepObserver observe = [&](const dem::Simulation&, std::string_view p) {
     if (p != phase) phase = p;
     if (should_stop()) throw RunCancelled{};
   };
 
-  // [engine]: another engine runs the point (study/engine_evaluator.hpp).
-  std::optional<EngineEvaluator> engine =
-      EngineEvaluator::for_run(study, chosen, engine_runs / run.key.hash);
+  // The DEM, another engine ([engine]) or an analytic model (study/run_evaluator.hpp).
+  const std::unique_ptr<PreparedRun> prepared = evaluator.prepare(
+      {study, chosen, run.seed, plan.threads_per_run, engine_runs / run.key.hash, observe});
   ExecutedRun out;
   RunResults res;
   dem::ApparatusResult result;
   const Clock::time_point start = Clock::now();
   try {
-    result = engine ? engine->run() : apparatus.run(observe);
+    result = prepared->run();
     out.ok = true;
     res.stopped_because = "finished";
   } catch (const RunCancelled&) {
@@ -97,7 +96,7 @@ ExecutedRun execute_run(const DoePlan& plan, const PlannedRun& run,
 
   out.record = make_apparatus_run_record(study, chosen, res, out.ok ? &result : nullptr);
   out.record["inputs"].erase("output");  // not part of the run (run_store.hpp)
-  if (engine) engine->describe(out.record);
+  prepared->describe(out.record);
   nlohmann::json values = nlohmann::json::object();
   const auto& params = plan.design.spec.parameters;
   for (std::size_t i = 0; i < params.size(); ++i)
@@ -199,7 +198,9 @@ DesignRunResult DesignRunner::run(ProgressObserver& observer) {
             events.push_back({queue[k], false, false, {}, 0.0});
           }
           ExecutedRun done =
-              execute_run(plan_, run, should_stop, store_.directory().parent_path() / "engine-runs");
+              execute_run(plan_, run, should_stop, store_.directory().parent_path() / "engine-runs",
+                          options_.evaluator != nullptr ? *options_.evaluator
+                                                        : default_run_evaluator());
           if (done.cancelled) break;
           if (options_.stop_after) {
             // At most stop_after runs are stored; the one that reaches it stops the others.

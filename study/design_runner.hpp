@@ -20,6 +20,7 @@
 
 #include "study/doe_plan.hpp"
 #include "study/progress_observer.hpp"
+#include "study/run_evaluator.hpp"
 #include "study/run_store.hpp"
 
 #include <atomic>
@@ -57,6 +58,9 @@ struct DesignRunOptions {
   std::optional<std::size_t> stop_after;
   // Set from elsewhere to stop the same way (runs in progress are abandoned).
   const std::atomic<bool>* cancel = nullptr;
+  // What evaluates each run (study/run_evaluator.hpp); null: demcal's DEM, or
+  // the study's [engine]. Not part of the run key: a store holds one evaluator's runs.
+  const RunEvaluator* evaluator = nullptr;
 };
 
 // This process's share of a plan and what the store holds of it.

@@ -22,6 +22,7 @@
 #include "dem/apparatus/apparatus.hpp"
 #include "engines/deck.hpp"
 #include "engines/engine_run.hpp"
+#include "study/run_evaluator.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -52,7 +53,9 @@ std::string engine_version_of(const std::string& kind, const std::string& launch
 // The model reduction (coarse graining, reduced modulus) `apparatus` was built with.
 dem::ModelReduction apparatus_reduction(const config::StudyApparatus& apparatus);
 
-class EngineEvaluator {
+// One run on another engine: the PreparedRun the DEM evaluator
+// (study/run_evaluator.hpp) makes when the study has an [engine] table.
+class EngineEvaluator final : public PreparedRun {
  public:
   // nullopt when demcal's own engine runs the study; `directory` is where the
   // deck is written and run (emptied first).
@@ -62,11 +65,11 @@ class EngineEvaluator {
 
   // Writes the deck, runs the engine, reads and measures its output. Throws
   // std::runtime_error (the engine's ERROR line, a malformed dump) when it fails.
-  dem::ApparatusResult run();
+  dem::ApparatusResult run() override;
 
   // Says in `record` which engine ran and how ("engine", "engine_deck",
   // "time_step_s", "contact_law").
-  void describe(nlohmann::json& record) const;
+  void describe(nlohmann::json& record) const override;
 
  private:
   EngineEvaluator(engines::Deck deck, std::string launch, std::filesystem::path directory,

@@ -1,0 +1,219 @@
+// The workflow end to end: `demcal study` (design -> runs -> surrogates ->
+// inspection -> calibration) and `demcal diagnose` (base fit test, probes,
+// extended designs, the verdict) on tests/data/workflow-analytic, every run
+// evaluated by the analytic evaluator (study/analytic_evaluator.hpp) through
+// the same entry points the command line calls, so that it takes seconds.
+// The calibration.json and diagnosis.json they write are compared with
+// tests/data/workflow-analytic/golden/ (DEMCAL_UPDATE_GOLDEN=1 rewrites them;
+// review the diff before committing).
+//
+// Tolerances. Numbers: |actual - golden| <= 1e-6 |golden| + 1e-9. The
+// workflow is deterministic for its seeds (runs, surrogate fits, MCMC), so on
+// one build the files are equal to the last bit; the margin absorbs the last
+// digits a different compiler or optimisation level may change in a sum
+// without letting any reported figure (printed to at most 4-5 significant
+// digits) move. Strings and the structure (keys, array lengths): exact, after
+// the test's directory (where the study is copied and run) is written "<dir>". Left out: what differs from one run
+// of the test to the next by nature (CPU and wall times, dates).
+#include "cli/calibrate_command.hpp"
+#include "cli/diagnose_command.hpp"
+#include "config/study_config.hpp"
+#include "study/analytic_evaluator.hpp"
+#include "tests/support/golden.hpp"
+#include "tests/support/test_files.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace demcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kStudyDir = fs::path(DEMCAL_SOURCE_DIR) / "tests/data/workflow-analytic";
+constexpr double kRelativeTolerance = 1e-6;
+constexpr double kAbsoluteTolerance = 1e-9;
+
+// Keys whose values change from one run of the test to the next.
+bool volatile_key(const std::string& key) {
+  static const std::set<std::string> keys = {"cpu_time_s", "wall_time_s", "elapsed_s",
+                                             "created",    "date",        "timestamp",
+                                             "written_at", "generated"};
+  return keys.count(key) > 0;
+}
+
+nlohmann::json normalised(const nlohmann::json& j, const std::string& test_dir) {
+  if (j.is_object()) {
+    nlohmann::json o = nlohmann::json::object();
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!volatile_key(it.key())) o[it.key()] = normalised(it.value(), test_dir);
+    return o;
+  }
+  if (j.is_array()) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& e : j) a.push_back(normalised(e, test_dir));
+    return a;
+  }
+  if (j.is_string()) {
+    std::string s = j.get<std::string>();
+    for (std::size_t at = s.find(test_dir); at != std::string::npos; at = s.find(test_dir, at))
+      s.replace(at, test_dir.size(), "<dir>");
+    return s;
+  }
+  return j;
+}
+
+void compare(const nlohmann::json& golden, const nlohmann::json& actual, const std::string& where,
+             std::vector<std::string>& differences) {
+  if (differences.size() >= 20) return;
+  if (golden.is_number() && actual.is_number()) {
+    const double g = golden.get<double>(), a = actual.get<double>();
+    if (!(std::fabs(a - g) <= kRelativeTolerance * std::fabs(g) + kAbsoluteTolerance))
+      differences.push_back(where + ": " + actual.dump() + ", golden " + golden.dump());
+    return;
+  }
+  if (golden.type() != actual.type()) {
+    differences.push_back(where + ": " + actual.dump() + ", golden " + golden.dump());
+    return;
+  }
+  if (golden.is_object()) {
+    for (auto it = golden.begin(); it != golden.end(); ++it) {
+      if (!actual.contains(it.key()))
+        differences.push_back(where + "." + it.key() + ": missing");
+      else
+        compare(it.value(), actual.at(it.key()), where + "." + it.key(), differences);
+    }
+    for (auto it = actual.begin(); it != actual.end(); ++it)
+      if (!golden.contains(it.key())) differences.push_back(where + "." + it.key() + ": not in the golden file");
+    return;
+  }
+  if (golden.is_array()) {
+    if (golden.size() != actual.size()) {
+      differences.push_back(where + ": " + std::to_string(actual.size()) + " elements, golden " +
+                            std::to_string(golden.size()));
+      return;
+    }
+    for (std::size_t i = 0; i < golden.size(); ++i)
+      compare(golden[i], actual[i], where + "[" + std::to_string(i) + "]", differences);
+    return;
+  }
+  if (golden != actual) differences.push_back(where + ": " + actual.dump() + ", golden " + golden.dump());
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path << " was not written";
+  return in.good() ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
+// `actual` (a file the workflow wrote) against golden/<name>, with the tolerances above.
+void expect_matches_golden(const fs::path& actual_file, const std::string& name,
+                           const fs::path& test_dir) {
+  const nlohmann::json actual = normalised(read_json(actual_file), test_dir.string());
+  const fs::path golden_file = kStudyDir / "golden" / name;
+  if (testing::updating_golden()) {
+    testing::spit(golden_file, actual.dump(2) + "\n");
+    return;
+  }
+  ASSERT_TRUE(fs::exists(golden_file))
+      << golden_file << " is missing; run with DEMCAL_UPDATE_GOLDEN=1 to write it";
+  std::vector<std::string> differences;
+  compare(nlohmann::json::parse(testing::slurp(golden_file)), actual, name, differences);
+  std::string text;
+  for (const std::string& d : differences) text += "\n  " + d;
+  EXPECT_TRUE(differences.empty())
+      << name << " differs from " << golden_file << ":" << text
+      << "\n(DEMCAL_UPDATE_GOLDEN=1 rewrites it after an intended change)";
+}
+
+TEST(WorkflowGolden, StudyAndDiagnoseEndToEndOnTheAnalyticEvaluator) {
+  const fs::path dir = testing::fresh_dir("workflow", "analytic");
+  fs::copy_file(kStudyDir / "study.toml", dir / "study.toml");
+  fs::copy_file(kStudyDir / "recordings.csv", dir / "recordings.csv");
+  const fs::path out = dir / "out";
+  const study::AnalyticEvaluator evaluator;
+  std::ostringstream console, log;
+  const auto start = std::chrono::steady_clock::now();
+
+  cli::StudyOptions so;
+  so.doe.study = dir / "study.toml";
+  so.doe.output_dir = out;
+  so.doe.jobs = 2;
+  so.doe.quiet = true;
+  so.doe.evaluator = &evaluator;
+  const fs::path report = cli::run_study(so, console, log);
+  ASSERT_FALSE(report.empty()) << log.str();
+  const fs::path reports = out / "workflow-analytic" / "reports";
+  EXPECT_EQ(report, reports / "calibration" / "index.html");
+
+  cli::DiagnoseOptions d;
+  d.study = dir / "study.toml";
+  d.output_dir = out;
+  d.jobs = 2;
+  d.quiet = true;
+  d.evaluator = &evaluator;
+  const cli::DiagnoseOutcome diagnosis = cli::diagnose(d, console, log);
+  ASSERT_NE(diagnosis.outcome, "incomplete") << log.str();
+  EXPECT_EQ(diagnosis.json, reports / "diagnosis" / "diagnosis.json");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "[ workflow ] study + diagnose on the analytic evaluator: " << seconds
+            << " s, verdict " << diagnosis.outcome << "\n";
+
+  // Every run the workflow stored was the analytic evaluator's, none the DEM's.
+  std::size_t runs = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (e.path().parent_path().filename() != "runs" || e.path().extension() != ".json") continue;
+    ++runs;
+    const nlohmann::json record = read_json(e.path());
+    EXPECT_EQ(record.at("evaluator").at("kind"), "analytic") << e.path();
+  }
+  EXPECT_GT(runs, 36u);  // the base design's 36 and the diagnosis' own
+
+  expect_matches_golden(reports / "calibration" / "calibration.json", "calibration.json", dir);
+  expect_matches_golden(diagnosis.json, "diagnosis.json", dir);
+  if (std::getenv("DEMCAL_WORKFLOW_LOG") != nullptr) std::cout << console.str() << log.str();
+  fs::remove_all(dir);
+}
+
+// The evaluator's observables are its documented formulas, and its noise is the
+// run's seed's alone.
+TEST(AnalyticEvaluator, GivesItsClosedFormAndSeededNoise) {
+  config::StudyConfig s = config::load_study_config(
+      kStudyDir / "study.toml",
+      {"interaction.particle_particle.rolling_friction=0.2",
+       "interaction.particle_particle.sliding_friction=0.5"});
+  config::StudyApparatus& walls = config::select_apparatus(s, std::string("container_walls"));
+  const dem::StepObserver observe = [](const dem::Simulation&, std::string_view) {};
+  auto evaluate = [&](const study::RunEvaluator& e, std::uint64_t seed) {
+    return e.prepare({s, walls, seed, 1, {}, observe})->run().observables;
+  };
+  const study::AnalyticEvaluator exact({0.0, 0.0, 0.0});
+  const nlohmann::json o = evaluate(exact, 1);
+  const double w = 1.0 / 3.0;
+  EXPECT_NEAR(o.at("angle_of_repose_deg").get<double>(),
+              15.0 + 25.0 * std::tanh(0.5) + 12.0 * 0.5 + 20.0 * w * 0.5, 1e-12);
+  EXPECT_NEAR(o.at("bulk_density_kg_m3").get<double>(),
+              2650.0 * (0.62 - 0.06 * 0.5 - 0.04 * std::tanh(0.6) - 0.05 * w + 0.03 * 0.25),
+              1e-9);
+  EXPECT_FALSE(o.contains("discharge_time_s"));  // a container measures no discharge
+
+  const study::AnalyticEvaluator noisy;
+  const double a1 = evaluate(noisy, 11).at("angle_of_repose_deg").get<double>();
+  EXPECT_EQ(a1, evaluate(noisy, 11).at("angle_of_repose_deg").get<double>());
+  EXPECT_NE(a1, evaluate(noisy, 12).at("angle_of_repose_deg").get<double>());
+  EXPECT_LT(std::fabs(a1 - o.at("angle_of_repose_deg").get<double>()), 5.0 * 0.4);
+}
+
+}  // namespace
+}  // namespace demcal
