@@ -5,7 +5,8 @@
 // the same entry points the command line calls, so that it takes seconds.
 // The calibration.json and diagnosis.json they write are compared with
 // tests/data/workflow-analytic/golden/ (DEMCAL_UPDATE_GOLDEN=1 rewrites them;
-// review the diff before committing).
+// review the diff before committing). DEMCAL_WORKFLOW_LOG=1 prints what the
+// commands wrote (their console and log), to see where a difference comes from.
 //
 // Tolerances. Numbers: |actual - golden| <= 1e-6 |golden| + 1e-9. The
 // workflow is deterministic for its seeds (runs, surrogate fits, MCMC), so on
