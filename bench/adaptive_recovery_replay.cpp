@@ -23,6 +23,7 @@
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
 #include "calibrate/runs_calibration.hpp"
+#include "calibrate/weighted_variance_acquisition.hpp"
 #include "config/doe_csv.hpp"
 
 #include <algorithm>
@@ -153,6 +154,15 @@ int main(int argc, char** argv) {
   };
 
   const auto truth_tests = truth_runs();
+  {
+    // The emulator's own error at the truth: what every laboratory made from truth_runs.csv
+    // shares, and what a design that learns the emulator well is charged with.
+    double a = 0.0, t = 0.0;
+    for (const auto& r : truth_tests) a += r.first / truth_tests.size(), t += r.second / truth_tests.size();
+    const auto [ea, et] = mean_at({truth(0), truth(1)});
+    std::printf("at the truth (%.3g, %.3g): emulator AoR %.3f deg, time %.4f s; truth_runs.csv mean (%zu runs) "
+                "AoR %.3f deg, time %.4f s\n", truth(0), truth(1), ea, et, truth_tests.size(), a, t);
+  }
   std::vector<double> runs, ratios;
   int inside_a = 0, inside_g = 0, mus_a = 0, mus_g = 0;
   std::printf("lab  runs  batches  status            area_adaptive  area_grid  ratio  inside(a/g)  mu_s id(a/g)\n");
@@ -191,9 +201,18 @@ int main(int argc, char** argv) {
                 adaptive.runs.size(), adaptive.history.batches.size(),
                 calibrate::to_string(adaptive.history.status), ja.area, jg.area, ja.area / jg.area,
                 ja.inside, jg.inside, ja.mu_s_identified, jg.mu_s_identified);
+    std::printf("     scatter sd (adaptive / grid): AoR %.3f / %.3f, time %.4f / %.4f; surrogate variance / noise "
+                "(adaptive / grid) %.2f / %.2f\n",
+                adaptive.calibration.surrogates[0].scatter.sd, g.surrogates[0].scatter.sd,
+                adaptive.calibration.surrogates[1].scatter.sd, g.surrogates[1].scatter.sd,
+                adaptive.history.batches.back().surrogate_variance_ratio,
+                calibrate::weighted_surrogate_variance(
+                    calibrate::CalibrationProblem(bounds, g.targets),
+                    calibrate::posterior_weights(calibrate::CalibrationProblem(bounds, g.targets), o)));
     if (k == 1 || adaptive.history.status != calibrate::AdaptiveDesignStatus::converged)
       std::printf("     %s\n", adaptive.history.statement.c_str());
-    if (k == 1 && std::getenv("DEMCAL_REPLAY_HISTORY"))
+    // DEMCAL_REPLAY_HISTORY=k prints laboratory k's design history.
+    if (const char* h = std::getenv("DEMCAL_REPLAY_HISTORY"); h && std::atoi(h) == k)
       std::printf("%s\n", adaptive.history.to_text({"mu_r", "mu_s"}).c_str());
     std::fflush(stdout);
   }

@@ -41,11 +41,11 @@ struct AdaptiveBatchRecord {
   // region's extent (the largest over the parameters); NaN for batch 0.
   double area_change = 0.0;
   double point_move = 0.0;
-  // Posterior-weighted surrogate variance over the targets' noise variance (r), and how much
-  // the total variance the region is computed with, noise x (1 + r), changed over the batch:
-  // |r - r_previous| / (1 + r_previous); NaN for batch 0.
+  // Posterior-weighted surrogate variance over the targets' noise variance (r), and the
+  // fraction by which one more batch (the one planned next, full size) is expected to shrink
+  // the region's area through the variance it removes (adaptive_design.cpp).
   double surrogate_variance_ratio = 0.0;
-  double total_variance_change = 0.0;
+  double expected_area_gain = 0.0;
   int scatter_degrees_of_freedom = 0;  // pooled replicate scatter, the fewest over observables
   bool stable = false;                 // all stopping tolerances held after this batch
   bool chi_squared_too_large = false;  // the out-of-range test failed after this batch
