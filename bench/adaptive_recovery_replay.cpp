@@ -18,11 +18,12 @@
 // design), --offset-aor DEG adds DEG to every recorded angle (out of the model's range).
 //
 //   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
-//                                      [--offset-aor 12]
+//                                      [--offset-aor 12] [--lab-seed-base 1000]
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
 #include "calibrate/runs_calibration.hpp"
+#include "calibrate/weighted_variance_acquisition.hpp"
 #include "config/doe_csv.hpp"
 
 #include <algorithm>
@@ -97,6 +98,10 @@ int main(int argc, char** argv) {
   Eigen::Vector2d truth(0.25, 0.45);
   double offset_aor = 0.0;
   bool emulator_labs = false;
+  // Seeds of the laboratories' draws (emulator tests: base + 4000 + k, instrument error:
+  // base + k) and of their designs (base - 1000 + k): another base gives another set of
+  // laboratories, for checking a method on cases it was not tuned on.
+  std::uint64_t lab_seed_base = 1000;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--labs") labs = std::stoi(v);
@@ -105,6 +110,7 @@ int main(int argc, char** argv) {
       truth << std::stod(v.substr(0, v.find(','))), std::stod(v.substr(v.find(',') + 1));
     } else if (k == "--offset-aor") offset_aor = std::stod(v);
     else if (k == "--emulator-labs") emulator_labs = v == "1";
+    else if (k == "--lab-seed-base") lab_seed_base = std::stoull(v);
     else {
       std::cerr << "unknown option " << k << "\n";
       return 2;
@@ -153,6 +159,15 @@ int main(int argc, char** argv) {
   };
 
   const auto truth_tests = truth_runs();
+  {
+    // The emulator's own error at the truth: what every laboratory made from truth_runs.csv
+    // shares, and what a design that learns the emulator well is charged with.
+    double a = 0.0, t = 0.0;
+    for (const auto& r : truth_tests) a += r.first / truth_tests.size(), t += r.second / truth_tests.size();
+    const auto [ea, et] = mean_at({truth(0), truth(1)});
+    std::printf("at the truth (%.3g, %.3g): emulator AoR %.3f deg, time %.4f s; truth_runs.csv mean (%zu runs) "
+                "AoR %.3f deg, time %.4f s\n", truth(0), truth(1), ea, et, truth_tests.size(), a, t);
+  }
   std::vector<double> runs, ratios;
   int inside_a = 0, inside_g = 0, mus_a = 0, mus_g = 0;
   std::printf("lab  runs  batches  status            area_adaptive  area_grid  ratio  inside(a/g)  mu_s id(a/g)\n");
@@ -161,7 +176,7 @@ int main(int argc, char** argv) {
     if (emulator_labs) {
       // The laboratory's ten tests drawn from the emulator itself at the truth.
       const auto [a, t] = mean_at({truth(0), truth(1)});
-      std::mt19937_64 lab(5000 + static_cast<std::uint64_t>(k));
+      std::mt19937_64 lab(lab_seed_base + 4000 + static_cast<std::uint64_t>(k));
       std::normal_distribution<double> z(0.0, 1.0);
       aor = a + sd_aor / std::sqrt(10.0) * z(lab);
       time = t + sd_time / std::sqrt(10.0) * z(lab);
@@ -174,13 +189,13 @@ int main(int argc, char** argv) {
         time += truth_tests.at(static_cast<std::size_t>(i)).second / 10.0;
       }
     }
-    std::mt19937_64 rng(1000 + static_cast<std::uint64_t>(k));
+    std::mt19937_64 rng(lab_seed_base + static_cast<std::uint64_t>(k));
     std::normal_distribution<double> unit(0.0, 1.0);
     aor += 0.5 * unit(rng) + offset_aor;
     time += 0.01 * time * unit(rng);
     calibrate::AdaptiveDesignProblem problem{bounds, recordings(aor, time)};
     calibrate::AdaptiveDesignOptions o = options;
-    o.seed = static_cast<std::uint64_t>(k);
+    o.seed = lab_seed_base - 1000 + static_cast<std::uint64_t>(k);
     const auto adaptive = calibrate::run_adaptive_design(problem, o, evaluate);
     const auto g = calibrate::calibrate_runs(bounds, problem.recordings, grid, o.surrogate, o.calibration);
     const Judged ja = judge(adaptive.calibration, bounds, truth), jg = judge(g, bounds, truth);
@@ -191,9 +206,18 @@ int main(int argc, char** argv) {
                 adaptive.runs.size(), adaptive.history.batches.size(),
                 calibrate::to_string(adaptive.history.status), ja.area, jg.area, ja.area / jg.area,
                 ja.inside, jg.inside, ja.mu_s_identified, jg.mu_s_identified);
+    std::printf("     scatter sd (adaptive / grid): AoR %.3f / %.3f, time %.4f / %.4f; surrogate variance / noise "
+                "(adaptive / grid) %.2f / %.2f\n",
+                adaptive.calibration.surrogates[0].scatter.sd, g.surrogates[0].scatter.sd,
+                adaptive.calibration.surrogates[1].scatter.sd, g.surrogates[1].scatter.sd,
+                adaptive.history.batches.back().surrogate_variance_ratio,
+                calibrate::weighted_surrogate_variance(
+                    calibrate::CalibrationProblem(bounds, g.targets),
+                    calibrate::posterior_weights(calibrate::CalibrationProblem(bounds, g.targets), o)));
     if (k == 1 || adaptive.history.status != calibrate::AdaptiveDesignStatus::converged)
       std::printf("     %s\n", adaptive.history.statement.c_str());
-    if (k == 1 && std::getenv("DEMCAL_REPLAY_HISTORY"))
+    // DEMCAL_REPLAY_HISTORY=k prints laboratory k's design history.
+    if (const char* h = std::getenv("DEMCAL_REPLAY_HISTORY"); h && std::atoi(h) == k)
       std::printf("%s\n", adaptive.history.to_text({"mu_r", "mu_s"}).c_str());
     std::fflush(stdout);
   }

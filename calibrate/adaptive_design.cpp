@@ -152,92 +152,16 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   for (const auto& f : st.calibration.surrogates)
     rec.scatter_degrees_of_freedom =
         std::min(rec.scatter_degrees_of_freedom, f.scatter.degrees_of_freedom);
-  rec.area_change = kNaN;
-  rec.point_move = kNaN;
-  if (previous) {
-    const auto& prev = previous->record;
-    rec.area_change = prev.region_area > 0.0
-                          ? std::abs(rec.region_area - prev.region_area) / prev.region_area
-                          : std::numeric_limits<double>::infinity();
-    // The move as a fraction of the region's extent: "stable" means the point moves less
-    // than the data leave it free to move. A region narrower than a grid cell counts as one
-    // cell wide.
-    double move = 0.0;
-    for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
-      const auto& b = problem_.parameters[j];
-      const int nodes = problem_.parameters.size() == 3
-                            ? options_.calibration.grid_points_per_axis_3d
-                            : options_.calibration.grid_points_per_axis;
-      const double cell = (b.upper - b.lower) / (nodes - 1);
-      const auto& e = cal.region.extent.at(j);
-      const double width =
-          std::isfinite(e.upper - e.lower) ? std::max(e.upper - e.lower, cell) : cell;
-      move = std::max(move, std::abs(rec.best_point[j] - prev.best_point[j]) / width);
-    }
-    rec.point_move = move;
-    rec.stable = rec.area_change <= options_.area_tolerance &&
-                 rec.point_move <= options_.point_tolerance &&
-                 rec.surrogate_variance_ratio <= options_.surrogate_variance_tolerance &&
-                 rec.region_resolved;
-  }
-  // chi^2 at the truth is chi^2(targets) when the model can reproduce the recordings, and
-  // the best chi^2 is no larger: a best chi^2 above the 1 - alpha quantile happens with
-  // probability <= alpha for recordings inside the model's range.
-  const auto n_targets = static_cast<double>(problem_.recordings.size());
-  const double chi2_limit = gsl_cdf_chisq_Qinv(options_.out_of_range_alpha, n_targets);
-  rec.chi_squared_too_large = best.chi_squared > chi2_limit;
-  st.stable_streak = rec.stable ? (previous ? previous->stable_streak : 0) + 1 : 0;
-  st.too_large_streak =
-      rec.chi_squared_too_large ? (previous ? previous->too_large_streak : 0) + 1 : 0;
-
-  const std::string after =
-      "after batch " + std::to_string(batch) + " (" + std::to_string(rec.runs_total) + " runs)";
-  if (st.too_large_streak >= options_.out_of_range_batches) {
-    st.status = AdaptiveDesignStatus::out_of_range;
-    // Where the best point sits says which way the recordings leave the model's range.
-    std::string where;
-    for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
-      const auto& b = problem_.parameters[j];
-      const double u = (best.theta(static_cast<Eigen::Index>(j)) - b.lower) / (b.upper - b.lower);
-      if (u < 1e-3 || u > 1.0 - 1e-3)
-        where += (where.empty() ? "" : ", ") + b.name + " at its " + (u < 0.5 ? "lower" : "upper") +
-                 " bound";
-    }
-    st.statement =
-        "the recordings are out of the model's range: " + after + ", the best point (" +
-        point_text(problem_.parameters, best.theta) + (where.empty() ? "" : "; " + where) +
-        ") has chi^2 = " + fmt(best.chi_squared, 3) + " > " + fmt(chi2_limit, 3) + ", the " +
-        fmt(1.0 - options_.out_of_range_alpha, 4) + " quantile of chi^2(" +
-        std::to_string(problem_.recordings.size()) + ") that the truth would pass, in " +
-        std::to_string(st.too_large_streak) + " consecutive batches; no more runs are spent";
-    return st;
-  }
-  if (st.stable_streak >= options_.stable_batches) {
-    st.status = AdaptiveDesignStatus::converged;
-    st.statement = "converged " + after + ": over " + std::to_string(st.stable_streak) +
-                   " consecutive batches the 95 % region's area changed by <= " +
-                   fmt(100.0 * options_.area_tolerance, 3) + " %, the calibrated point (" +
-                   point_text(problem_.parameters, best.theta) +
-                   ") moved by <= " + fmt(100.0 * options_.point_tolerance, 3) +
-                   " % of the region's extent, and the surrogates' variance is " +
-                   fmt(rec.surrogate_variance_ratio, 2) + " of the noise variance; region area " +
-                   fmt(rec.region_area, 4);
-    return st;
-  }
-  const int runs_left = options_.max_runs - static_cast<int>(rec.runs_total);
-  if (runs_left <= 0 || static_cast<int>(batch) >= options_.max_batches) {
-    st.status = AdaptiveDesignStatus::budget_exhausted;
-    st.statement = "the budget (" +
-                   (runs_left <= 0 ? "max_runs = " + std::to_string(options_.max_runs)
-                                   : "max_batches = " + std::to_string(options_.max_batches)) +
-                   ") is spent " + after + " before the region was stable; last area change " +
-                   fmt(rec.area_change, 2) + ", region area " + fmt(rec.region_area, 4);
-    return st;
-  }
-
-  // The next batch.
+  rec.posterior_mean.assign(problem_.parameters.size(), 0.0);
+  for (Eigen::Index g = 0; g < weights.points.rows(); ++g)
+    for (std::size_t j = 0; j < problem_.parameters.size(); ++j)
+      rec.posterior_mean[j] +=
+          weights.weights(g) * weights.points(g, static_cast<Eigen::Index>(j));
+  // The next batch, planned in full before the stopping test: its acquisition values are
+  // what another batch is expected to gain. Cut to the budget below (the kriging believer is
+  // greedy, so a cut batch is the prefix of the full one).
   const std::size_t next = batch + 1;
-  const int count = std::min(options_.batch_size, runs_left);
+  const int count = options_.batch_size;
   // Distinct design points in order of first appearance, and runs at each.
   std::vector<std::vector<double>> points;
   std::map<std::vector<double>, int> runs_at;
@@ -288,6 +212,122 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
                            std::to_string(c + 1) + " of the batch)",
                        choices[c].value});
   }
+  // Expected gain: the chosen runs' acquisition values sum to the expected drop of
+  // sum_i (posterior-weighted V_i) / s_i^2; per target on average, over the total 1 + r,
+  // that is the expected relative drop d of the variance the region is computed with, and
+  // the region's volume (p parameters) scales as variance^(p/2).
+  double believed_drop = 0.0;
+  for (const auto& c : choices) believed_drop += c.value;
+  const double d = std::clamp(believed_drop / static_cast<double>(problem_.recordings.size()) /
+                                  (1.0 + rec.surrogate_variance_ratio),
+                              0.0, 1.0);
+  rec.expected_area_gain =
+      1.0 - std::pow(1.0 - d, 0.5 * static_cast<double>(problem_.parameters.size()));
+  rec.area_change = kNaN;
+  rec.point_move = kNaN;
+  if (previous) {
+    const auto& prev = previous->record;
+    rec.area_change = prev.region_area > 0.0
+                          ? std::abs(rec.region_area - prev.region_area) / prev.region_area
+                          : std::numeric_limits<double>::infinity();
+    // The move as a fraction of the region's extent: "stable" means the point moves less
+    // than the data leave it free to move. A region narrower than a grid cell counts as one
+    // cell wide. The point is the posterior mean, not minima[0]: along an iso-line of one
+    // observable two near-equal minima trade places from batch to batch (the argmin jumps
+    // across the region) while the posterior they sit in does not move.
+    double move = 0.0;
+    for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
+      const auto& b = problem_.parameters[j];
+      const int nodes = problem_.parameters.size() == 3
+                            ? options_.calibration.grid_points_per_axis_3d
+                            : options_.calibration.grid_points_per_axis;
+      const double cell = (b.upper - b.lower) / (nodes - 1);
+      const auto& e = cal.region.extent.at(j);
+      const double width =
+          std::isfinite(e.upper - e.lower) ? std::max(e.upper - e.lower, cell) : cell;
+      move = std::max(move, std::abs(rec.posterior_mean[j] - prev.posterior_mean[j]) / width);
+    }
+    rec.point_move = move;
+    // The region is computed with each target's total variance, noise x (1 + r) on average
+    // (calibration_problem.hpp): the surrogates' share is already in its size. The rule asks
+    // either that the share is small (r <= surrogate_variance_tolerance) or that another
+    // batch is not expected to shrink the region by more than the area may change
+    // (expected_area_gain <= area_tolerance). A fixed fraction of the noise alone cannot be
+    // met when the recordings are means of many tests: their noise is the scatter /
+    // sqrt(repeats), the surrogate's floor near the region the scatter / sqrt(runs nearby)
+    // (on the lined recovery study even the 100-run grid has r = 1.2 to 1.5).
+    const bool surrogate_done = rec.surrogate_variance_ratio <= options_.surrogate_variance_tolerance ||
+                                rec.expected_area_gain <= options_.area_tolerance;
+    // The region's size rests on sigma_dem, the replicate scatter: not stable before the
+    // scatter has the degrees of freedom the options ask for.
+    const bool scatter_measured =
+        rec.scatter_degrees_of_freedom >= options_.scatter_degrees_of_freedom;
+    rec.stable = rec.area_change <= options_.area_tolerance &&
+                 rec.point_move <= options_.point_tolerance && surrogate_done &&
+                 scatter_measured && rec.region_resolved;
+  }
+  // chi^2 at the truth is chi^2(targets) when the model can reproduce the recordings, and
+  // the best chi^2 is no larger: a best chi^2 above the 1 - alpha quantile happens with
+  // probability <= alpha for recordings inside the model's range.
+  const auto n_targets = static_cast<double>(problem_.recordings.size());
+  const double chi2_limit = gsl_cdf_chisq_Qinv(options_.out_of_range_alpha, n_targets);
+  rec.chi_squared_too_large = best.chi_squared > chi2_limit;
+  st.stable_streak = rec.stable ? (previous ? previous->stable_streak : 0) + 1 : 0;
+  st.too_large_streak =
+      rec.chi_squared_too_large ? (previous ? previous->too_large_streak : 0) + 1 : 0;
+
+  const std::string after =
+      "after batch " + std::to_string(batch) + " (" + std::to_string(rec.runs_total) + " runs)";
+  if (st.too_large_streak >= options_.out_of_range_batches) {
+    st.status = AdaptiveDesignStatus::out_of_range;
+    st.next.clear();
+    // Where the best point sits says which way the recordings leave the model's range.
+    std::string where;
+    for (std::size_t j = 0; j < problem_.parameters.size(); ++j) {
+      const auto& b = problem_.parameters[j];
+      const double u = (best.theta(static_cast<Eigen::Index>(j)) - b.lower) / (b.upper - b.lower);
+      if (u < 1e-3 || u > 1.0 - 1e-3)
+        where += (where.empty() ? "" : ", ") + b.name + " at its " + (u < 0.5 ? "lower" : "upper") +
+                 " bound";
+    }
+    st.statement =
+        "the recordings are out of the model's range: " + after + ", the best point (" +
+        point_text(problem_.parameters, best.theta) + (where.empty() ? "" : "; " + where) +
+        ") has chi^2 = " + fmt(best.chi_squared, 3) + " > " + fmt(chi2_limit, 3) + ", the " +
+        fmt(1.0 - options_.out_of_range_alpha, 4) + " quantile of chi^2(" +
+        std::to_string(problem_.recordings.size()) + ") that the truth would pass, in " +
+        std::to_string(st.too_large_streak) + " consecutive batches; no more runs are spent";
+    return st;
+  }
+  if (st.stable_streak >= options_.stable_batches) {
+    st.status = AdaptiveDesignStatus::converged;
+    st.next.clear();
+    st.statement = "converged " + after + ": over " + std::to_string(st.stable_streak) +
+                   " consecutive batches the 95 % region's area changed by <= " +
+                   fmt(100.0 * options_.area_tolerance, 3) +
+                   " %, the posterior mean moved by <= " + fmt(100.0 * options_.point_tolerance, 3) +
+                   " % of the region's extent (best point " +
+                   point_text(problem_.parameters, best.theta) +
+                   "), and the surrogates' variance is " +
+                   fmt(rec.surrogate_variance_ratio, 2) +
+                   " of the noise variance (another batch is expected to shrink the area by " +
+                   fmt(100.0 * rec.expected_area_gain, 2) + " %); region area " +
+                   fmt(rec.region_area, 4);
+    return st;
+  }
+  const int runs_left = options_.max_runs - static_cast<int>(rec.runs_total);
+  if (runs_left <= 0 || static_cast<int>(batch) >= options_.max_batches) {
+    st.status = AdaptiveDesignStatus::budget_exhausted;
+    st.next.clear();
+    st.statement = "the budget (" +
+                   (runs_left <= 0 ? "max_runs = " + std::to_string(options_.max_runs)
+                                   : "max_batches = " + std::to_string(options_.max_batches)) +
+                   ") is spent " + after + " before the region was stable; last area change " +
+                   fmt(rec.area_change, 2) + ", region area " + fmt(rec.region_area, 4);
+    return st;
+  }
+
+  st.next.resize(std::min(st.next.size(), static_cast<std::size_t>(runs_left)));
   if (st.next.empty()) {
     st.status = AdaptiveDesignStatus::no_candidates;
     st.statement = "no candidate point is min_separation = " + fmt(options_.min_separation, 3) +

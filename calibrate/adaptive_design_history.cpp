@@ -41,8 +41,9 @@ std::string AdaptiveDesignHistory::to_text(const std::vector<std::string>& names
     for (std::size_t j = 0; j < b.best_point.size(); ++j)
       s += (j ? ", " : "") + fmt(b.best_point[j], 4);
     s += "), chi^2 " + fmt(b.best_chi_squared, 3) + ", area change " + fmt(b.area_change, 2) +
-         ", point move " + fmt(b.point_move, 2) + " of the extent, surrogate variance " +
-         fmt(b.surrogate_variance_ratio, 2) + " of the noise, scatter dof " +
+         ", posterior-mean move " + fmt(b.point_move, 2) + " of the extent, surrogate variance " +
+         fmt(b.surrogate_variance_ratio, 2) + " of the noise (another batch expected to shrink the area by " +
+         fmt(b.expected_area_gain, 2) + "), scatter dof " +
          std::to_string(b.scatter_degrees_of_freedom) + (b.stable ? ", stable" : "") +
          (b.chi_squared_too_large ? ", chi^2 too large" : "") + "\n";
   }
@@ -73,10 +74,12 @@ nlohmann::json AdaptiveDesignHistory::to_json() const {
       jb["region_area"] = number_json(b.region_area);
       jb["region_resolved"] = b.region_resolved;
       jb["best_point"] = b.best_point;
+      jb["posterior_mean"] = b.posterior_mean;
       jb["best_chi_squared"] = number_json(b.best_chi_squared);
       jb["area_change"] = number_json(b.area_change);
       jb["point_move"] = number_json(b.point_move);
       jb["surrogate_variance_ratio"] = number_json(b.surrogate_variance_ratio);
+      jb["expected_area_gain"] = number_json(b.expected_area_gain);
       jb["scatter_degrees_of_freedom"] = b.scatter_degrees_of_freedom;
       jb["stable"] = b.stable;
       jb["chi_squared_too_large"] = b.chi_squared_too_large;

@@ -33,13 +33,19 @@ struct AdaptiveBatchRecord {
   double region_area = 0.0;  // parameter units (a product of two ranges for 2 parameters)
   bool region_resolved = false;
   std::vector<double> best_point;  // minima[0], parameter units
+  // The posterior mean (weights of the acquisition's grid): the point whose stability the
+  // stopping rule tests. Unlike minima[0] it does not jump between two near-equal minima.
+  std::vector<double> posterior_mean;
   double best_chi_squared = 0.0;
-  // |area - previous| / previous, and the calibrated point's move as a fraction of the 95 %
+  // |area - previous| / previous, and the posterior mean's move as a fraction of the 95 %
   // region's extent (the largest over the parameters); NaN for batch 0.
   double area_change = 0.0;
   double point_move = 0.0;
-  // Posterior-weighted surrogate variance over the targets' noise variance.
+  // Posterior-weighted surrogate variance over the targets' noise variance (r), and the
+  // fraction by which one more batch (the one planned next, full size) is expected to shrink
+  // the region's area through the variance it removes (adaptive_design.cpp).
   double surrogate_variance_ratio = 0.0;
+  double expected_area_gain = 0.0;
   int scatter_degrees_of_freedom = 0;  // pooled replicate scatter, the fewest over observables
   bool stable = false;                 // all stopping tolerances held after this batch
   bool chi_squared_too_large = false;  // the out-of-range test failed after this batch

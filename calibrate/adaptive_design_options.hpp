@@ -49,10 +49,15 @@ struct AdaptiveDesignOptions {
   // --- Stopping ------------------------------------------------------------------------
   // After a batch the design is stable when (all of):
   //   |area - previous area| / previous area <= area_tolerance              (in (0, 1))
-  //   the calibrated point moved by <= point_tolerance of the 95 % region's extent along
-  //   every parameter                                                      (in (0, 1))
+  //   the posterior mean moved by <= point_tolerance of the 95 % region's extent along
+  //   every parameter (the mean, not the best minimum, which can jump between two
+  //   near-equal minima along an iso-line)                                 (in (0, 1))
   //   the posterior-weighted surrogate variance is <= surrogate_variance_tolerance of the
-  //   targets' noise variance (the region is set by the data, not by the surrogate) (> 0)
+  //   targets' noise variance (the region is set by the data, not by the surrogate) (> 0),
+  //   OR the next batch is expected to shrink the area by <= area_tolerance (the region,
+  //   computed with noise x (1 + share), already carries the share; what matters is
+  //   whether more runs would still shrink it)
+  //   the replicate scatter has >= scatter_degrees_of_freedom (sigma_dem sets the region)
   //   the region is resolved on the calibration grid.
   double area_tolerance = 0.15;
   double point_tolerance = 0.10;
