@@ -1,6 +1,7 @@
 # ctest install_example: installs demcal into a fresh prefix, then configures,
 # builds and runs examples/fit-and-calibrate against it, as another project would.
-# -DBUILD_DIR (demcal's build tree) -DSOURCE_DIR (its sources) -DWORK (scratch).
+# -DBUILD_DIR (demcal's build tree) -DSOURCE_DIR (its sources) -DWORK (scratch)
+# [-DEXTRA_FLAGS].
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 function(run)
@@ -11,7 +12,12 @@ function(run)
   endif()
 endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK}/prefix)
+# -DEXTRA_FLAGS: compile and link flags the installed libraries need (a sanitizer build's).
+set(extra "")
+if(EXTRA_FLAGS)
+  set(extra "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${EXTRA_FLAGS}")
+endif()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/fit-and-calibrate -B ${WORK}/build -G Ninja
-    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK}/prefix)
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK}/prefix ${extra})
 run(${CMAKE_COMMAND} --build ${WORK}/build)
 run(${WORK}/build/fit_and_calibrate ${SOURCE_DIR}/examples/fit-and-calibrate/table.csv)
