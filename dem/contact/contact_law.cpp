@@ -54,17 +54,23 @@ const char* name_of(const Variant& v) {
 template <class Part>
 concept DeclaresParameters = requires { Part::kParameters; };
 
+template <class Part>
+void collect_part_parameters(const std::string& role, std::vector<RegisteredPartParameter>& out) {
+  if constexpr (DeclaresParameters<Part>)
+    for (const PartParameter& p : Part::kParameters) out.push_back({role, Part::kName, p});
+}
+
+// Plain function templates, not a templated lambda with a fold of lambdas:
+// clang 14 (Debian 12's, which builds the fuzz harnesses) crashes on the latter.
+template <class Variant, std::size_t... I>
+void collect_parameters_of(const std::string& role, std::vector<RegisteredPartParameter>& out,
+                           std::index_sequence<I...>) {
+  (collect_part_parameters<std::variant_alternative_t<I, Variant>>(role, out), ...);
+}
+
 template <class Variant>
 void collect_parameters(const std::string& role, std::vector<RegisteredPartParameter>& out) {
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
-    (
-        [&] {
-          using Part = std::variant_alternative_t<I, Variant>;
-          if constexpr (DeclaresParameters<Part>)
-            for (const PartParameter& p : Part::kParameters) out.push_back({role, Part::kName, p});
-        }(),
-        ...);
-  }(std::make_index_sequence<std::variant_size_v<Variant>>{});
+  collect_parameters_of<Variant>(role, out, std::make_index_sequence<std::variant_size_v<Variant>>{});
 }
 
 std::vector<RegisteredPartParameter> collect_all_parameters() {
