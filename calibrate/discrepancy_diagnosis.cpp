@@ -290,7 +290,7 @@ TargetPredictions predict_at(const std::vector<ParameterBounds>& parameters, con
 }
 
 std::string summary_text(const DiscrepancyDiagnosis& d, const DiagnosisOptions& options) {
-  std::string s = d.detection.statement;
+  std::string s = options.deciding_detection ? options.deciding_detection->statement : d.detection.statement;
   if (d.outcome == DiagnosisOutcome::reproduced || d.outcome == DiagnosisOutcome::untestable) return s;
   if (d.location_available) s += " " + d.location.statement;
   if (d.outcome == DiagnosisOutcome::explained) {
@@ -305,8 +305,8 @@ std::string summary_text(const DiscrepancyDiagnosis& d, const DiagnosisOptions& 
   if (d.fits.empty()) return s + " No candidate was recalibrated: the mismatch is unexplained.";
   const CandidateFit& best = d.fits.front();
   return s + " No candidate explains it: the best, " + best.name + ", has a Bayes factor of " +
-         factor_text(std::log(d.bayes_factor_over_base)) + " over the base model (" + fmt(options.required_bayes_factor) +
-         " required). The mismatch is unexplained.";
+         factor_text(std::log(d.bayes_factor_over_base)) + " over the base model (" +
+         factor_text(options.required_log_bayes_factor) + " required). The mismatch is unexplained.";
 }
 
 }  // namespace
@@ -333,9 +333,9 @@ void validate(const DiagnosisOptions& o) {
     throw std::invalid_argument(who + "alpha must lie in (0, 1), got " + fmt(o.alpha, 6));
   if (o.leading_candidates < 0)
     throw std::invalid_argument(who + "leading_candidates must be >= 0, got " + std::to_string(o.leading_candidates));
-  if (!(o.required_bayes_factor >= 1.0) || !std::isfinite(o.required_bayes_factor))
-    throw std::invalid_argument(who + "required_bayes_factor must be finite and >= 1, got " +
-                                fmt(o.required_bayes_factor, 6));
+  if (!(o.required_log_bayes_factor >= 0.0) || !std::isfinite(o.required_log_bayes_factor))
+    throw std::invalid_argument(who + "required_log_bayes_factor must be finite and >= 0, got " +
+                                fmt(o.required_log_bayes_factor, 6));
   validate(o.calibration);
   LocationOptions location = o.location;
   location.alpha = o.alpha;
@@ -396,8 +396,9 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     }
   }
 
-  if (!d.detection.mismatch()) {
-    d.outcome = d.detection.verdict == MismatchVerdict::untestable ? DiagnosisOutcome::untestable
+  const MismatchDetection& deciding = options.deciding_detection ? *options.deciding_detection : d.detection;
+  if (!deciding.mismatch()) {
+    d.outcome = deciding.verdict == MismatchVerdict::untestable ? DiagnosisOutcome::untestable
                                                                    : DiagnosisOutcome::reproduced;
     d.scores_needed = false;
     if (!d.scores.empty())
@@ -452,7 +453,7 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     } else {
       d.bayes_factor_over_next = d.bayes_factor_over_base;
     }
-    if (best.over_base.log_bayes_factor > std::log(options.required_bayes_factor)) {
+    if (best.over_base.log_bayes_factor >= options.required_log_bayes_factor) {
       d.outcome = DiagnosisOutcome::explained;
       d.chosen = 0;
     }

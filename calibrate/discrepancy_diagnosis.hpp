@@ -11,7 +11,7 @@
 //               the leading ones with theta and phi free, on their extended targets;
 //               BIC and log evidence of each and of the base model (model_evidence.hpp).
 //   4. model    the candidate of largest evidence, if it beats the base model by
-//               required_bayes_factor; else "unexplained mismatch".
+//               required_log_bayes_factor; else "unexplained mismatch".
 //   5. compare  chi^2/dof, residuals per target and held-out predictions, before and after.
 //
 // The summary is what a user reads first, e.g. "The recordings are not reproduced
@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,9 +66,17 @@ struct DiagnosisOptions {
   double alpha = 0.01;
   // How many of the best-scored assessable candidates are recalibrated (>= 0).
   int leading_candidates = 2;
-  // The chosen module must beat the base model by this Bayes factor (>= 1); 10 is "strong"
-  // on Jeffreys' scale.
-  double required_bayes_factor = 10.0;
+  // The chosen module must beat the base model by this log Bayes factor (>= 0). The same
+  // margin as ExplanationOptions::required_log_bayes_factor (calibrate/model_discrepancy.hpp),
+  // so that one number decides: 3 is a Bayes factor of e^3 = 20, "strong" on Kass & Raftery's
+  // scale.
+  double required_log_bayes_factor = 3.0;
+  // The goodness-of-fit test that decides whether candidates are fitted at all. Empty: the
+  // chi-square of the fitted targets taken as independent (`detection` of the result). The
+  // workflow passes its calibrated test (correlated targets, local scatter; study/
+  // diagnosis_workflow.hpp), so that a mismatch only that test sees is still explained or
+  // not, rather than left unexplained with no candidate fitted.
+  std::optional<MismatchDetection> deciding_detection;
   // Of every calibration (base, candidates, subsets). Overrides `location.calibration`.
   CalibrationOptions calibration = diagnosis_calibration_defaults();
   // Targets kept out of every fit and predicted before and after.

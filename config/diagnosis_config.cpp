@@ -22,7 +22,15 @@ std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
   c.leading = static_cast<int>(t.integer_or("leading", 2, 1, 10));
   c.extended_points = static_cast<int>(t.integer_or("extended_points", 16, 4, 10000));
   c.probe_grid = static_cast<int>(t.integer_or("probe_grid", 200, 2, 100000));
-  c.bayes_factor_threshold = t.number_or("bayes_factor_threshold", 10.0, reader::at_least(1.0));
+  // One evidence margin decides both whether a candidate beats the base model and whether it
+  // beats the generic discrepancy; the Bayes-factor key it replaced set only the first.
+  if (t.contains("bayes_factor_threshold"))
+    t.fail("bayes_factor_threshold",
+           "was replaced by required_log_bayes_factor (a natural-log Bayes factor that a "
+           "candidate must reach over both the base model and the generic discrepancy; 3 = a "
+           "factor of 20, ln(10) = 2.3 the old default of 10)");
+  c.required_log_bayes_factor =
+      t.number_or("required_log_bayes_factor", 3.0, reader::between(0, false, 50, false));
   for (const auto& name : names) {
     if (!t.has(name)) continue;
     reader::Table r = t.table(name);

@@ -12,7 +12,10 @@
 //                                     #   switched on (its sensitivity), 1..100
 //   leading = 2                       # candidates that get an extended design, 1..10
 //   extended_points = 16              # Latin hypercube points in (parameters, candidate), 4..10000
-//   bayes_factor_threshold = 10       # the best candidate must beat the base model by this
+//   required_log_bayes_factor = 3.0   # ln B a candidate must reach over the base model AND
+//                                     #   over a generic model discrepancy to be named, [0, 50]
+//                                     #   (3 = a Bayes factor of 20, "strong"); below it the
+//                                     #   mismatch is reported as unexplained
 //   probe_grid = 200                  # the probes run at the base fit snapped to 1/probe_grid of
 //                                     #   each range, 2..100000: diagnoses of nearly equal
 //                                     #   recordings (noise seeds) share the probe runs; a coarse
@@ -42,7 +45,7 @@ struct DiagnosisConfig {
   int probe_replicates = 2;
   int leading = 2;
   int extended_points = 16;
-  double bayes_factor_threshold = 10.0;
+  double required_log_bayes_factor = 3.0;
   int probe_grid = 200;
   std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides
   std::size_t line = 0;

@@ -4,7 +4,7 @@
 #
 #   fuzz/run.sh [--seconds N] [--jobs J] [--build DIR] [--work DIR] [harness ...]
 #
-# harness: study_toml recordings_csv doe_csv run_record (default: all four).
+# harness: study_toml recordings_csv doe_csv run_record raw_recordings (default: all five).
 # N seconds each (default 1800), J harnesses at a time (default 2). Builds the
 # harnesses in DIR (default build-fuzz, clang++ with -DDEMCAL_FUZZ=ON) when
 # they are missing. Each harness keeps its corpus in WORK/<harness>/corpus
@@ -29,7 +29,7 @@ while [ $# -gt 0 ]; do
     *) harnesses+=("$1"); shift ;;
   esac
 done
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(study_toml recordings_csv doe_csv run_record)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(study_toml recordings_csv doe_csv run_record raw_recordings)
 
 missing=0
 for h in "${harnesses[@]}"; do [ -x "$build/fuzz/fuzz_$h" ] || missing=1; done
@@ -47,6 +47,7 @@ seed() {  # harness -> copies the repository's files of that kind into its corpu
     recordings_csv) files=$(ls studies/*/recordings*.csv tests/bad_input/base/recordings.csv 2>/dev/null || true) ;;
     doe_csv) files=$(ls studies/*/doe.csv studies/*/truth_runs.csv tests/concealed/truth/runs.csv 2>/dev/null || true) ;;
     run_record) files=$(ls fuzz/seeds/run_record*.json) ;;
+    raw_recordings) files=$(ls fuzz/seeds/raw_*.csv) ;;
   esac
   for f in $files; do
     # Large tables are cut to their first 40 lines (the reader is line by line);

@@ -753,7 +753,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   calibrate::DiagnosisOptions opt;
   opt.alpha = dc.alpha;
   opt.leading_candidates = dc.leading;
-  opt.required_bayes_factor = dc.bayes_factor_threshold;
+  opt.required_log_bayes_factor = dc.required_log_bayes_factor;
   opt.calibration.grid_points_per_axis = study.calibration->grid_points_per_axis;
   opt.calibration.multistart_points = study.calibration->multistart_points;
   for (const auto& t : pooled_targets)
@@ -996,15 +996,20 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   }
 
   // 5. The whole comparison, then the competitor that is not physics.
+  // Candidates are fitted when the calibrated test sees a mismatch, not the one that takes
+  // the targets as independent (which misses what only correlated residuals show).
+  opt.deciding_detection = detection;
   const auto result = calibrate::diagnose_discrepancy(bounds, targets, modules, variables, opt);
-  calibrate::DiscrepancyJudgement judgement =
-      calibrate::judge_against_discrepancy(bounds, targets, opt.held_out, result, variables);
+  calibrate::ExplanationOptions explanation;
+  explanation.required_log_bayes_factor = dc.required_log_bayes_factor;
+  calibrate::DiscrepancyJudgement judgement = calibrate::judge_against_discrepancy(
+      bounds, targets, opt.held_out, result, variables, {}, explanation);
   if (judgement.available) {
     // Decided on the calibrated test, not the one that takes the targets as independent.
     std::vector<calibrate::ModelEvidence> evidences;
     for (const auto& f : result.fits) evidences.push_back(f.evidence);
     judgement.decision = calibrate::decide_explanation(detection, result.base_evidence, evidences,
-                                                       judgement.discrepancy);
+                                                       judgement.discrepancy, explanation);
   }
   const DiagnosisVerdict verdict = decide_diagnosis(detection, result, judgement);
   const double elapsed =

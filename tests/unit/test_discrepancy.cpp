@@ -450,6 +450,47 @@ TEST(DiscrepancyDiagnosis, RaisesNoAlarmWithoutAnEffect) {
   EXPECT_GE(1.0 - static_cast<double>(alarms) / kSeeds, 1.0 - alpha - 3.0 * sd);
 }
 
+TEST(DiscrepancyDiagnosis, TheCallersTestDecidesWhetherCandidatesAreFitted) {
+  // The workflow's calibrated test (correlated targets) can see a mismatch the independent
+  // chi-square does not, and the reverse; the candidates follow the test it passes.
+  const MismatchDetection says_mismatch = detect_mismatch(80.0, 9, 2);
+  const MismatchDetection says_reproduced = detect_mismatch(3.0, 9, 2);
+  ASSERT_TRUE(says_mismatch.mismatch());
+  ASSERT_FALSE(says_reproduced.mismatch());
+
+  DiagnosisOptions o = quick_options();
+  const WorldRun plain = diagnose(kNone, 0.0, 3001, o);
+  ASSERT_FALSE(plain.d.detection.mismatch()) << "this null seed passes the independent test";
+  EXPECT_TRUE(plain.d.fits.empty());
+  o.deciding_detection = says_mismatch;
+  const WorldRun forced = diagnose(kNone, 0.0, 3001, o);
+  EXPECT_FALSE(forced.d.detection.mismatch()) << "the independent test is still reported as it is";
+  EXPECT_TRUE(forced.d.scores_needed);
+  EXPECT_FALSE(forced.d.fits.empty()) << "candidates are fitted on the caller's mismatch";
+  EXPECT_NE(forced.d.outcome, DiagnosisOutcome::reproduced);
+  EXPECT_EQ(forced.d.summary.rfind(says_mismatch.statement, 0), 0u) << forced.d.summary;
+
+  o.deciding_detection = says_reproduced;
+  const WorldRun cohesive = diagnose(kCohesion, kCohesionTruth, 1001, o);
+  ASSERT_TRUE(cohesive.d.detection.mismatch()) << "the independent test sees this cohesion";
+  EXPECT_EQ(cohesive.d.outcome, DiagnosisOutcome::reproduced);
+  EXPECT_TRUE(cohesive.d.fits.empty());
+}
+
+TEST(DiscrepancyDiagnosis, OneEvidenceMarginNamesTheCandidate) {
+  // The over-base margin is a log Bayes factor (the same number as the judgement's): a margin
+  // above the best candidate's log B over the base model leaves the mismatch unexplained.
+  DiagnosisOptions o = quick_options();
+  const WorldRun run = diagnose(kCohesion, kCohesionTruth, 1002, o);
+  ASSERT_EQ(run.d.outcome, DiagnosisOutcome::explained);
+  const double log_b = run.d.fits.front().over_base.log_bayes_factor;
+  ASSERT_GE(log_b, o.required_log_bayes_factor);
+  o.required_log_bayes_factor = log_b + 0.5;
+  const WorldRun strict = diagnose(kCohesion, kCohesionTruth, 1002, o);
+  EXPECT_EQ(strict.d.outcome, DiagnosisOutcome::unexplained);
+  EXPECT_TRUE(contains(strict.d.summary, "required"));
+}
+
 TEST(DiscrepancyDiagnosis, SaysUnexplainedWhenNoCandidateFits) {
   // The sandglass AoR follows the orifice size; no candidate predicts that.
   constexpr int kSeeds = 20;
@@ -987,8 +1028,8 @@ TEST(DiscrepancyDiagnosis, BadInputsNameTheOffender) {
                        "target 'orifice_10mm discharge_time_s' is listed twice"));
 
   o = quick_options();
-  o.required_bayes_factor = 0.5;
-  EXPECT_TRUE(contains(message(make(), o), "required_bayes_factor"));
+  o.required_log_bayes_factor = -0.5;
+  EXPECT_TRUE(contains(message(make(), o), "required_log_bayes_factor"));
   o = quick_options();
   o.alpha = 0.0;
   EXPECT_TRUE(contains(message(make(), o), "alpha"));
