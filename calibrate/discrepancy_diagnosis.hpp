@@ -1,5 +1,5 @@
 #pragma once
-// The missing-physics workflow of DESIGN.md in one call, over surrogates and recordings
+// The missing-physics workflow of docs/design.md in one call, over surrogates and recordings
 // only (the DEM runs behind the sensitivities and extended designs are the caller's):
 //
 //   1. detect   calibrate the base model on every target not held out; chi-square test

@@ -1,5 +1,5 @@
 #pragma once
-// Step 1 of the missing-physics workflow (DESIGN.md): does the calibrated base model
+// Step 1 of the missing-physics workflow (docs/design.md): does the calibrated base model
 // reproduce the recordings at all? The chi-square of the standardized residuals at the
 // best minimum against its n - p degrees of freedom.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Step 2 of the missing-physics workflow (DESIGN.md): where the base model fails. From the
+// Step 2 of the missing-physics workflow (docs/design.md): where the base model fails. From the
 // standardized residuals at the best minimum,
 //
 //   (a) their chi-square summed per observable and per setup, with each group's share of
