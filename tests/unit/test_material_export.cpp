@@ -8,6 +8,7 @@
 #include "study/material_export.hpp"
 #include "tests/support/golden.hpp"
 #include "tests/support/test_files.hpp"
+#include "tests/support/study_text.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,35 +24,9 @@ std::string study_text(const std::string& rolling, const std::string& engine) {
   return R"([study]
 name = "export-test"
 
-[material]
-name = "sand"
-density_kg_m3 = 2650.0
-shear_modulus_pa = 3.0e10
-poisson_ratio = 0.25
-size = { distribution = "monodisperse", diameter_m = 4.5e-4 }
-
-[wall_material]
-name = "glass"
-density_kg_m3 = 2500.0
-youngs_modulus_pa = 6.3e10
-poisson_ratio = 0.23
-
-[contact]
-normal = "hertz"
-tangential = "mindlin"
-rolling = ")" +
-         rolling + R"("
-
-[interaction.particle_particle]
-restitution = 0.6
-sliding_friction = 0.52
-rolling_friction = 0.3
-
-[interaction.particle_wall]
-restitution = 0.6
-sliding_friction = 0.5
-rolling_friction = 0.3
-
+)" +
+    testing::sand_and_glass_tables({.rolling = rolling}) +
+    R"(
 [apparatus.rectangular_container]
 width_m = 0.22
 height_m = 0.1

@@ -9,6 +9,7 @@
 #include "config/simulation_config.hpp"
 #include "config/study_config.hpp"
 #include "dem/size_distribution.hpp"
+#include "tests/support/study_text.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,37 +26,13 @@ namespace {
 using namespace demcal::config;
 using namespace demcal::study;
 
-const char* const kStudy = R"([study]
+const std::string kStudy = R"([study]
 name = "modules"
 
-[material]
-name = "sand"
-density_kg_m3 = 2650.0
-shear_modulus_pa = 3.0e10
-poisson_ratio = 0.25
-size = { distribution = "uniform", mean_diameter_m = 4.5e-4, relative_half_width = 0.33 }
-
-[wall_material]
-name = "glass"
-density_kg_m3 = 2500.0
-youngs_modulus_pa = 6.3e10
-poisson_ratio = 0.23
-
-[contact]
-normal = "hertz"
-tangential = "mindlin"
-rolling = "cdt"
-
-[interaction.particle_particle]
-restitution = 0.6
-sliding_friction = 0.52
-rolling_friction = 0.3
-
-[interaction.particle_wall]
-restitution = 0.6
-sliding_friction = 0.5
-rolling_friction = 0.3
-
+)" +
+    testing::sand_and_glass_tables({.size =
+                  R"({ distribution = "uniform", mean_diameter_m = 4.5e-4, relative_half_width = 0.33 })"}) +
+    R"(
 [apparatus.rectangular_container]
 width_m = 0.22
 height_m = 0.1

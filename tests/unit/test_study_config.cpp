@@ -6,6 +6,7 @@
 #include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
 #include "config/study_config.hpp"
+#include "tests/support/study_text.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -26,39 +27,15 @@ using namespace demcal::config;
 using namespace demcal::study;
 
 // Small, coarse-grained and sliced so that building all three is instant.
-const char* const kStudy = R"(# a study with all three apparatus
+const std::string kStudy = R"(# a study with all three apparatus
 [study]
 name = "unit-study"
 seed = 3
 
-[material]
-name = "sand"
-density_kg_m3 = 2650.0
-shear_modulus_pa = 3.0e10
-poisson_ratio = 0.25
-size = { distribution = "uniform", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 }
-
-[wall_material]
-name = "glass"
-density_kg_m3 = 2500.0
-youngs_modulus_pa = 6.3e10
-poisson_ratio = 0.23
-
-[contact]
-normal = "hertz"
-tangential = "mindlin"
-rolling = "cdt"
-
-[interaction.particle_particle]
-restitution = 0.6
-sliding_friction = 0.52
-rolling_friction = 0.3
-
-[interaction.particle_wall]
-restitution = 0.6
-sliding_friction = 0.5
-rolling_friction = 0.3
-
+)" +
+    testing::sand_and_glass_tables({.size =
+                  R"({ distribution = "uniform", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 })"}) +
+    R"(
 [apparatus.sandglass]
 upper_diameter_m = 0.08
 upper_height_m = 0.12
