@@ -152,7 +152,7 @@ ModelInfo orifice_plate_info() {
            {"open_time_s", "s", "required", range_of(any_number()), "when the hole opens"},
            {"diameter_m", "m", "diameter_m or width_m", kPositive, "a circular hole's diameter"},
            {"width_m", "m", "diameter_m or width_m", kPositive, "a slot's width"},
-           {"axis_u", "1", "required with width_m; else [0, 0, 0]", kDirection,
+           {"axis_u", "1", "[0, 0, 0] (required with width_m)", kDirection,
             "the slot's long direction"},
            {"outer_radius_m", "m", "0 (unbounded)", range_of(at_least(0)),
             "the plate's outer radius"}}};

@@ -19,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <set>
@@ -35,17 +36,42 @@ using reader::Table;
 // they must make its reader ask for every key it declares.
 using Examples = std::map<std::string, std::vector<std::string>>;
 
-// The keys a reader asked for on `body`, read as table [m] of a document; the
-// reader must accept the example (and every key in it: finish() is called).
-std::vector<std::string> keys_read(const std::string& body,
-                                   const std::function<void(Table&)>& run) {
+// A value written into a table as the schema's default text starts with it:
+// 0.5, 200, true, "random", [0, 0, 0].
+std::string default_text_of(const toml::node& n) {
+  if (n.is_boolean()) return *n.value<bool>() ? "true" : "false";
+  if (n.is_integer()) return std::to_string(*n.value<std::int64_t>());
+  if (n.is_floating_point()) return reader::format_number(*n.value<double>());
+  if (n.is_string()) return "\"" + *n.value<std::string>() + "\"";
+  if (const toml::array* a = n.as_array()) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + default_text_of((*a)[i]);
+    return s + "]";
+  }
+  return "?";
+}
+
+// What a reader did with one example table [m]: the keys it asked for, and
+// the keys it wrote in (absent from the example) with the text of their value.
+// The reader must accept the example, and every key in it (finish() is called).
+struct ReadResult {
+  std::vector<std::string> keys;
+  std::map<std::string, std::string> written_in;
+};
+
+ReadResult read_example(const std::string& body, const std::function<void(Table&)>& run) {
   ConfigDocument doc = parse_config_string("[m]\n" + body, "example.toml");
+  const ConfigDocument given = parse_config_string("[m]\n" + body, "example.toml");
   const Context ctx{doc};
   Table root(ctx, doc.table, "", 1);
   Table t = root.table("m");
   run(t);
   t.finish();
-  return t.known_keys();
+  ReadResult r{t.known_keys(), {}};
+  const toml::table& before = *given.table.get("m")->as_table();
+  for (const auto& [k, v] : *doc.table.get("m")->as_table())
+    if (!before.contains(k.str())) r.written_in[std::string(k.str())] = default_text_of(v);
+  return r;
 }
 
 template <class Model>
@@ -57,7 +83,9 @@ void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examp
     ASSERT_NE(ex, examples.end()) << registry.family().kind << " \"" << name
                                   << "\" is registered without an example in this test";
     std::set<std::string> declared;
+    std::map<std::string, std::string> default_texts;
     for (const ModelKey& k : entry.info.keys) {
+      default_texts[k.key] = k.default_text;
       EXPECT_TRUE(declared.insert(k.key).second) << name << ": " << k.key << " declared twice";
       EXPECT_FALSE(k.range_text.empty()) << name << ": " << k.key;
       EXPECT_FALSE(k.default_text.empty()) << name << ": " << k.key;
@@ -65,15 +93,23 @@ void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examp
     }
     std::set<std::string> read;
     for (const std::string& body : ex->second) {
-      std::vector<std::string> keys;
+      ReadResult result;
       try {
-        keys = keys_read(body, [&](Table& t) { run(entry.model, t); });
+        result = read_example(body, [&](Table& t) { run(entry.model, t); });
       } catch (const std::exception& e) {
         ADD_FAILURE() << registry.family().kind << " \"" << name << "\": the example\n"
                       << body << "\nwas refused: " << e.what();
         continue;
       }
-      for (const std::string& k : keys) {
+      // A default the reader writes in is the one the schema shows.
+      for (const auto& [k, value] : result.written_in) {
+        const auto d = default_texts.find(k);
+        if (d == default_texts.end()) continue;  // reported below as undeclared
+        EXPECT_EQ(d->second.rfind(value, 0), 0u)
+            << registry.family().kind << " \"" << name << "\" writes in " << k << " = " << value
+            << " but declares the default \"" << d->second << "\"";
+      }
+      for (const std::string& k : result.keys) {
         EXPECT_TRUE(declared.count(k) == 1)
             << registry.family().kind << " \"" << name << "\" reads \"" << k
             << "\", which it does not declare";
@@ -124,6 +160,11 @@ shear_modulus_pa = 1.0e7
 
 const char* const kReduction = R"(slice = true
 slice_thickness_diameters = 4.2
+coarse_graining_factor = 6.0
+shear_modulus_pa = 1.0e7
+)";
+// Without slice_thickness_diameters: written in at its default.
+const char* const kShortReduction = R"(slice = true
 coarse_graining_factor = 6.0
 shear_modulus_pa = 1.0e7
 )";
@@ -244,7 +285,15 @@ lower_diameter_m = 0.2
 drop_height_m = 0.08
 form_pile = true
 fill_lattice_spacing_diameters = 1.05
-)") + kReduction}},
+)") + kReduction,
+        std::string(R"(upper_diameter_m = 0.08
+upper_height_m = 0.12
+bottom = "flat"
+orifice_diameter_m = 0.02
+fill_mass_kg = 0.2
+lower_diameter_m = 0.2
+drop_height_m = 0.08
+)") + kShortReduction}},
       {"conical_pile",
        {std::string(R"(funnel_top_diameter_m = 0.08
 funnel_outlet_diameter_m = 0.02
@@ -253,7 +302,15 @@ feed_height_m = 0.125
 drop_height_m = 0.06
 base_diameter_m = 0.12
 fill_mass_kg = 0.2
-)") + kReduction}},
+)") + kReduction,
+        std::string(R"(funnel_top_diameter_m = 0.08
+funnel_outlet_diameter_m = 0.02
+funnel_half_angle_deg = 30.0
+feed_height_m = 0.125
+drop_height_m = 0.06
+base_diameter_m = 0.12
+fill_mass_kg = 0.2
+)") + kShortReduction}},
       {"rectangular_container",
        {R"(width_m = 0.22
 height_m = 0.1
@@ -264,6 +321,14 @@ inlet_width_m = 0.01
 inlet_height_m = 0.08
 inlet_speed_m_s = 0.5
 median_band_diameters = 2.0
+coarse_graining_factor = 6.0
+shear_modulus_pa = 1.0e7
+)",
+        R"(width_m = 0.22
+height_m = 0.1
+thickness_m = 0.011
+boundary = "walls"
+fill_mass_kg = 0.055
 coarse_graining_factor = 6.0
 shear_modulus_pa = 1.0e7
 )"}}};
@@ -291,7 +356,8 @@ TEST(ModelRegistryDrift, WallReadersReadExactlyTheirDeclaredKeys) {
        {"centre_m = [0, 0, 0]\nnormal = [0, 0, 1]\nopen_time_s = 0.1\ndiameter_m = 0.01\n"
         "outer_radius_m = 0.1\n",
         "centre_m = [0, 0, 0]\nnormal = [0, 0, 1]\nopen_time_s = 0.1\nwidth_m = 0.01\n"
-        "axis_u = [1, 0, 0]\n"}}};
+        "axis_u = [1, 0, 0]\n",
+        "centre_m = [0, 0, 0]\nnormal = [0, 0, 1]\nopen_time_s = 0.1\ndiameter_m = 0.01\n"}}};
   expect_no_drift<WallReader>(wall_models(), examples, [](const WallReader& read, Table& t) {
     EXPECT_NE(read(t), nullptr);
   });
@@ -309,9 +375,9 @@ TEST(ModelRegistryDrift, RegionAndInserterReadersReadExactlyTheirDeclaredKeys) {
       {"pour",
        {"velocity_m_s = [0, 0, -0.1]\nstart_s = 0.0\nbatch_volume_fraction = 0.2\n"
         "attempts_per_particle = 100\n",
-        "rate_particles_per_s = 1000.0\n"}},
+        "rate_particles_per_s = 1000.0\n", ""}},
       {"fill", {"time_s = 0.0\nmethod = \"lattice\"\nlattice_gap = 0.05\n"
-                "attempts_per_particle = 100\n"}}};
+                "attempts_per_particle = 100\n", ""}}};
   InsertionCommon common;
   common.material = 0;
   common.density_kg_m3 = 2650.0;
@@ -344,8 +410,8 @@ TEST(ModelRegistryDrift, SizeAndSurrogateReadersReadExactlyTheirDeclaredKeys) {
   const Examples surrogates = {
       {"gaussian_process",
        {"kernel = \"squared_exponential\"\nmean = \"linear\"\nnugget = \"none\"\nstarts = 4\n"
-        "seed = 2\n"}},
-      {"polynomial", {"degree = 2\n"}}};
+        "seed = 2\n", ""}},
+      {"polynomial", {"degree = 2\n", ""}}};
   expect_no_drift<SurrogateReader>(surrogate_models(), surrogates,
                                    [](const SurrogateReader& read, Table& t) {
                                      surrogate::SurrogateSpec spec;
