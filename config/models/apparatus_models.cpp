@@ -7,8 +7,13 @@
 
 namespace demcal::config {
 
+// The apparatus, in the order messages list them: one declaration and one
+// call each (the function is in the apparatus' own apparatus_<name>.cpp).
+void register_sandglass(ApparatusRegistry& r);
+void register_conical_pile(ApparatusRegistry& r);
+void register_rectangular_container(ApparatusRegistry& r);
+
 const ApparatusRegistry& apparatus_models() {
-  // Registration order is the order messages list the apparatus in.
   static const ApparatusRegistry registry = [] {
     ApparatusRegistry r({"apparatus", "",
                          "[apparatus.<name>], or [apparatus.<setup>] with type = \"<name>\""});

@@ -1,9 +1,10 @@
 #pragma once
 // The apparatus a study can define ([apparatus.<name>]), registered by name
 // (config/model_registry.hpp). Each apparatus has one file here,
-// apparatus_<name>.cpp, holding its reader and its registration; the list of
-// registrations is apparatus_models.cpp. The helpers below are what every
-// apparatus reader shares.
+// apparatus_<name>.cpp, holding its reader and its registration function
+// register_<name>(ApparatusRegistry&); the list of registrations is
+// apparatus_models.cpp (one line per apparatus). The helpers below are what
+// every apparatus reader shares.
 
 #include "config/model_registry.hpp"
 #include "config/toml_reader.hpp"
@@ -32,11 +33,6 @@ struct ApparatusModel {
 
 using ApparatusRegistry = ModelRegistry<ApparatusModel>;
 const ApparatusRegistry& apparatus_models();
-
-// One registration per apparatus (each in its apparatus_<name>.cpp).
-void register_sandglass(ApparatusRegistry& r);
-void register_conical_pile(ApparatusRegistry& r);
-void register_rectangular_container(ApparatusRegistry& r);
 
 namespace apparatus_reading {
 
