@@ -58,7 +58,7 @@ ModelInfo rectangle_info() {
            {"axis_u", "1", "required", kDirection, "the direction of its first side"},
            {"half_length_u_m", "m", "required", kPositive, "half its length along axis_u"},
            {"half_length_v_m", "m", "required", kPositive,
-            "half its length across axis_u, in the plane"}}};
+            "half its length along v = normal x axis_u"}}};
 }
 
 // ---------------------------------------------------------------- disk
@@ -90,7 +90,7 @@ std::unique_ptr<dem::Wall> read_cylinder(Table& w) {
 
 ModelInfo cylinder_info() {
   return {"cylinder",
-          "a finite cylinder's mantle; particles inside",
+          "a finite cylinder's lateral surface, two-sided, open at both ends",
           {{"base_m", "m", "required", kPoint, "the centre of its base"},
            {"axis", "1", "required", kDirection, "from the base along the cylinder"},
            {"length_m", "m", "required", kPositive, "its length along the axis"},
@@ -112,7 +112,7 @@ std::unique_ptr<dem::Wall> read_cone(Table& w) {
 
 ModelInfo cone_info() {
   return {"cone",
-          "a truncated cone's mantle (a hopper, a funnel); particles inside",
+          "a conical frustum's lateral surface (a hopper, a funnel), two-sided, open at both ends",
           {{"base_m", "m", "required", kPoint, "the centre of its base"},
            {"axis", "1", "required", kDirection, "from the base along the cone"},
            {"length_m", "m", "required", kPositive, "its length along the axis"},
@@ -146,16 +146,16 @@ std::unique_ptr<dem::Wall> read_orifice_plate(Table& w) {
 
 ModelInfo orifice_plate_info() {
   return {"orifice_plate",
-          "a plane with a hole (circle or slot) that is closed until open_time_s",
+          "a two-sided plate, solid until open_time_s, then with a hole: a circle, or a slot unbounded along normal x axis_u",
           {{"centre_m", "m", "required", kPoint, "the hole's centre"},
-           {"normal", "1", "required", kDirection, "the side particles are on"},
+           {"normal", "1", "required", kDirection, "the plate's normal"},
            {"open_time_s", "s", "required", range_of(any_number()), "when the hole opens"},
            {"diameter_m", "m", "diameter_m or width_m", kPositive, "a circular hole's diameter"},
            {"width_m", "m", "diameter_m or width_m", kPositive, "a slot's width"},
            {"axis_u", "1", "[0, 0, 0] (required with width_m)", kDirection,
-            "the slot's long direction"},
-           {"outer_radius_m", "m", "0 (unbounded)", range_of(at_least(0)),
-            "the plate's outer radius"}}};
+            "the direction the slot's width is across (for a circle it only orients the mesh)"},
+           {"outer_radius_m", "m", "0", range_of(at_least(0)),
+            "the plate's outer radius; 0: an unbounded plate"}}};
 }
 
 }  // namespace
