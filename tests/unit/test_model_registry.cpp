@@ -4,8 +4,10 @@
 // listing every family, and the drift check: for every registered model, the
 // keys its reader actually reads (reader::Table::known_keys(), run on example
 // tables below) are exactly the keys it declares, so the schema cannot list a
-// key the reader does not take nor miss one it does. A model registered
-// without an example here fails the test.
+// key the reader does not take nor miss one it does; the defaults it writes in
+// are the declared ones; and values just outside a key's declared range are
+// refused at the key, values just inside not for their range. A model
+// registered without an example here fails the test.
 
 #include "config/model_registry.hpp"
 #include "config/models/apparatus_models.hpp"
@@ -22,7 +24,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -74,9 +78,63 @@ ReadResult read_example(const std::string& body, const std::function<void(Table&
   return r;
 }
 
+// The numeric bounds a declared range text starts with ("> 0", ">= 2",
+// "(0, 80)", "[0, 1)", "(1, 3], ..."), as the values just outside them: the
+// lower bound itself when open, else one below; the same above. Empty for a
+// range that is not a plain interval (a choice, "[0, height_m)"). Integer
+// ranges ("an integer in [1, 100]") likewise.
+struct Probes {
+  std::vector<double> outside;  // must be refused at the key
+  std::vector<double> inside;   // must not be refused for its range
+};
+
+Probes range_probes(const std::string& range_text) {
+  constexpr double kStep = 1e-6;
+  std::smatch m;
+  static const std::regex one_sided(R"(^(>=|>) (-?[0-9.e+-]+))");
+  static const std::regex interval(R"(^([\[(])(-?[0-9.e+-]+), (-?[0-9.e+-]+)([\])]))");
+  static const std::regex integers(R"(^an integer in \[(-?[0-9]+), (-?[0-9]+)\])");
+  static const std::regex integers_from(R"(^an integer >= (-?[0-9]+))");
+  if (std::regex_search(range_text, m, integers)) {
+    const double lo = std::stod(m[1]), hi = std::stod(m[2]);
+    return {{lo - 1, hi + 1}, {lo, hi}};
+  }
+  if (std::regex_search(range_text, m, integers_from)) {
+    const double lo = std::stod(m[1]);
+    return {{lo - 1}, {lo}};
+  }
+  if (std::regex_search(range_text, m, one_sided)) {
+    const double lo = std::stod(m[2]);
+    return m[1] == ">" ? Probes{{lo}, {lo + kStep}} : Probes{{lo - 1}, {lo}};
+  }
+  if (std::regex_search(range_text, m, interval)) {
+    const double lo = std::stod(m[2]), hi = std::stod(m[3]);
+    const bool lo_open = m[1] == "(", hi_open = m[4] == ")";
+    return {{lo_open ? lo : lo - 1, hi_open ? hi : hi + 1},
+            {lo_open ? lo + kStep : lo, hi_open ? hi - kStep : hi}};
+  }
+  return {};
+}
+
+// `body` with the value of `key = ...` replaced; "" when the key is not in it.
+std::string with_value(const std::string& body, const std::string& key, double value) {
+  std::istringstream in(body);
+  std::string line, out;
+  bool found = false;
+  while (std::getline(in, line)) {
+    if (line.rfind(key + " = ", 0) == 0) {
+      line = key + " = " + reader::format_number(value);
+      found = true;
+    }
+    out += line + "\n";
+  }
+  return found ? out : "";
+}
+
 template <class Model>
 void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examples,
                      const std::function<void(const Model&, Table&)>& run) {
+  int probes = 0;  // range probes run: a test that probes nothing tests nothing
   for (const auto& entry : registry.entries()) {
     const std::string& name = entry.info.name;
     const auto ex = examples.find(name);
@@ -109,6 +167,44 @@ void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examp
             << registry.family().kind << " \"" << name << "\" writes in " << k << " = " << value
             << " but declares the default \"" << d->second << "\"";
       }
+      // The range a key is declared with is the one its reader refuses values
+      // outside of, at the key.
+      for (const ModelKey& k : entry.info.keys) {
+        const Probes p = range_probes(k.range_text);
+        for (const double v : p.outside) {
+          const std::string probe = with_value(body, k.key, v);
+          if (probe.empty()) continue;
+          try {
+            (void)read_example(probe, [&](Table& t) { run(entry.model, t); });
+            ADD_FAILURE() << registry.family().kind << " \"" << name << "\" accepts " << k.key
+                          << " = " << v << ", outside its declared range " << k.range_text;
+          } catch (const ConfigError& e) {
+            const std::string m = e.what();
+            EXPECT_NE(m.find("m." + k.key + ": expected"), std::string::npos)
+                << name << " " << k.key << " = " << v << ": " << m;
+          }
+          ++probes;
+        }
+        // Just inside: the reader may refuse it for another reason (a
+        // geometry that cannot hold the fill) but not for its range.
+        // Only for a plain range: "> 0, >= min_diameter_m" is bounded by another key too.
+        const bool plain = std::regex_match(
+            k.range_text, std::regex(R"([^,]*(, [^,]*)?(, at most [0-9.e+]+)?)")) &&
+                           k.range_text.find("_") == std::string::npos;
+        for (const double v : plain ? p.inside : std::vector<double>{}) {
+          const std::string probe = with_value(body, k.key, v);
+          if (probe.empty()) continue;
+          try {
+            (void)read_example(probe, [&](Table& t) { run(entry.model, t); });
+          } catch (const ConfigError& e) {
+            const std::string m = e.what();
+            EXPECT_TRUE(m.find("m." + k.key + ": expected a number") == std::string::npos &&
+                        m.find("m." + k.key + ": expected an integer") == std::string::npos)
+                << name << " " << k.key << " = " << v << " is inside its declared range "
+                << k.range_text << " but refused: " << m;
+          }
+        }
+      }
       for (const std::string& k : result.keys) {
         EXPECT_TRUE(declared.count(k) == 1)
             << registry.family().kind << " \"" << name << "\" reads \"" << k
@@ -120,6 +216,7 @@ void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examp
       EXPECT_TRUE(read.count(k) == 1) << registry.family().kind << " \"" << name
                                       << "\" declares \"" << k << "\", which its reader never reads";
   }
+  EXPECT_GT(probes, 0) << registry.family().kind << ": no declared range was probed";
 }
 
 // A small material and protocol, as a study gives them to an apparatus reader.
