@@ -1,5 +1,6 @@
 #include "config/schema.hpp"
 
+#include "config/model_registry.hpp"
 #include "config/physics_candidates.hpp"
 #include "config/toml_reader.hpp"
 #include "dem/contact/contact_law.hpp"
@@ -67,10 +68,31 @@ void add_candidates(std::vector<SchemaEntry>& out) {
   }
 }
 
+// The run-time selection tables (config/model_registry.hpp): apparatus, walls,
+// insertion regions and inserters, size distributions, surrogate models.
+void add_models(std::vector<SchemaEntry>& out) {
+  for (const ModelFamilyListing& f : model_families())
+    for (const ModelInfo& m : f.models) {
+      SchemaEntry e;
+      e.kind = f.family.kind;
+      e.alias = f.family.alias;
+      e.name = m.name;
+      e.where = f.family.where;
+      for (std::size_t p = e.where.find("<name>"); p != std::string::npos;
+           p = e.where.find("<name>", p + m.name.size()))
+        e.where.replace(p, 6, m.name);
+      e.where += "; " + m.summary;
+      for (const ModelKey& k : m.keys)
+        e.keys.push_back({k.key, k.unit, k.default_text, k.range_text, k.summary});
+      out.push_back(std::move(e));
+    }
+}
+
 }  // namespace
 
 std::vector<SchemaEntry> schema_entries() {
   std::vector<SchemaEntry> out;
+  add_models(out);
   add_contact_parts(out);
   add_candidates(out);
   return out;
@@ -79,7 +101,7 @@ std::vector<SchemaEntry> schema_entries() {
 std::string schema_text(const std::string& name) {
   const std::vector<SchemaEntry> all = schema_entries();
   const auto wanted = [&](const SchemaEntry& e) {
-    return name.empty() || e.name == name || e.kind == name ||
+    return name.empty() || e.name == name || e.kind == name || (!e.alias.empty() && e.alias == name) ||
            (name == "contact" && e.kind.rfind("contact.", 0) == 0) ||
            (name == "candidates" && e.kind == "diagnosis candidate");
   };
@@ -88,6 +110,7 @@ std::string schema_text(const std::string& name) {
     for (const SchemaEntry& e : all) {
       known.insert(e.name);
       known.insert(e.kind);
+      if (!e.alias.empty()) known.insert(e.alias);
     }
     known.erase("diagnosis candidate");
     throw ConfigError("schema: unknown name \"" + name + "\"; known: " +

@@ -5,7 +5,10 @@
 //   - contact parts by role (dem/contact/contact_law.hpp's registry) and the
 //     parameters each part declares (dem/contact/part_parameter.hpp), which
 //     read_interaction reads;
-//   - the physics candidates of `demcal diagnose` (config/physics_candidates.hpp).
+//   - the physics candidates of `demcal diagnose` (config/physics_candidates.hpp);
+//   - the models of every run-time selection table (config/model_registry.hpp):
+//     apparatus, wall types, insertion regions, inserters, size distributions
+//     and surrogate models, whose readers look their names up there.
 // The command line only prints the text.
 
 #include <string>
@@ -22,9 +25,11 @@ struct SchemaKey {
   std::string summary;
 };
 
-// One registered model: a contact part, a physics candidate.
+// One registered model: an apparatus, a wall type, ..., a contact part, a
+// physics candidate.
 struct SchemaEntry {
-  std::string kind;     // "contact.adhesion", "diagnosis candidate"
+  std::string kind;     // "apparatus", "size distribution", "contact.adhesion", "diagnosis candidate"
+  std::string alias;    // a short name for the kind ("size"); "" for none
   std::string name;     // "liquid_bridge"
   std::string where;    // where its keys go
   std::vector<SchemaKey> keys;
@@ -34,8 +39,10 @@ struct SchemaEntry {
 std::vector<SchemaEntry> schema_entries();
 
 // The schema as text: all entries when `name` is empty, else the entries whose
-// name or kind is `name` (a part, "contact", "contact.adhesion", "candidates"
-// or a candidate's name). An unknown name throws ConfigError listing the
+// name, kind or kind's alias is `name` (a model: "sandglass", "plane",
+// "log_normal", ...; a family: "apparatus", "wall", "region", "insertion",
+// "size distribution" or "size", "surrogate"; a part, "contact",
+// "contact.adhesion", "candidates" or a candidate's name). An unknown name throws ConfigError listing the
 // names known.
 std::string schema_text(const std::string& name);
 

@@ -1,15 +1,13 @@
 #include "config/simulation_config.hpp"
 
+#include "config/models/insertion_models.hpp"
+#include "config/models/wall_models.hpp"
+
 #include "dem/air_drag.hpp"
 #include "dem/contact/contact_law.hpp"
 #include "dem/insertion/inserter.hpp"
 #include "dem/insertion/region.hpp"
 #include "dem/size_distribution.hpp"
-#include "dem/wall/bounded_plane_wall.hpp"
-#include "dem/wall/cone_wall.hpp"
-#include "dem/wall/cylinder_wall.hpp"
-#include "dem/wall/orifice_plate_wall.hpp"
-#include "dem/wall/plane_wall.hpp"
 
 #include <algorithm>
 #include <array>
@@ -47,21 +45,8 @@ using demcal::config::reader::vec_text;
 namespace {
 
 std::unique_ptr<dem::Region> read_region(Table& r, const dem::Domain& domain) {
-  const std::string shape = r.choice("shape", {"box", "cylinder"});
-  std::unique_ptr<dem::Region> out;
-  if (shape == "box") {
-    const Vec3 lo = r.vec3("lower_m");
-    const Vec3 hi = r.vec3("upper_m");
-    require_above(r, "upper_m", lo, hi, "lower_m");
-    r.finish();
-    out = guarded(r, [&] { return dem::make_box_region(lo, hi); });
-  } else {
-    const Vec3 base = r.vec3("base_centre_m");
-    const double radius = r.number("radius_m", above(0));
-    const double height = r.number("height_m", above(0));
-    r.finish();
-    out = guarded(r, [&] { return dem::make_cylinder_region(base, radius, height); });
-  }
+  const std::string shape = r.choice("shape", region_models().names());
+  std::unique_ptr<dem::Region> out = region_models().at(shape).model(r);
   // A particle placed outside the box along a bounded axis would stop the run
   // on its first step with a message about escaping walls; say it here instead.
   static const char* const kAxis[] = {"x", "y", "z"};
@@ -73,64 +58,6 @@ std::unique_ptr<dem::Region> read_region(Table& r, const dem::Domain& domain) {
                   format_number(domain.lower_m[k]) + ", " + format_number(domain.upper_m[k]) +
                   "])");
   return out;
-}
-
-std::unique_ptr<dem::Wall> read_wall_geometry(Table& w, const std::string& type) {
-  if (type == "plane") {
-    const Vec3 p = w.vec3("point_m");
-    const Vec3 n = w.direction("normal");
-    return guarded(w, [&] { return std::make_unique<dem::PlaneWall>(p, n); });
-  }
-  if (type == "rectangle") {
-    const Vec3 c = w.vec3("centre_m");
-    const Vec3 n = w.direction("normal");
-    const Vec3 u = w.direction("axis_u");
-    const double hu = w.number("half_length_u_m", above(0));
-    const double hv = w.number("half_length_v_m", above(0));
-    return guarded(w, [&] { return std::make_unique<dem::RectangleWall>(c, n, u, hu, hv); });
-  }
-  if (type == "disk") {
-    const Vec3 c = w.vec3("centre_m");
-    const Vec3 n = w.direction("normal");
-    const double r = w.number("radius_m", above(0));
-    return guarded(w, [&] { return std::make_unique<dem::DiskWall>(c, n, r); });
-  }
-  if (type == "cylinder") {
-    const Vec3 b = w.vec3("base_m");
-    const Vec3 a = w.direction("axis");
-    const double len = w.number("length_m", above(0));
-    const double r = w.number("radius_m", above(0));
-    return guarded(w, [&] { return std::make_unique<dem::CylinderWall>(b, a, len, r); });
-  }
-  if (type == "cone") {
-    const Vec3 b = w.vec3("base_m");
-    const Vec3 a = w.direction("axis");
-    const double len = w.number("length_m", above(0));
-    const double r0 = w.number("radius_base_m", at_least(0));
-    const double r1 = w.number("radius_end_m", at_least(0));
-    if (r0 == 0.0 && r1 == 0.0)
-      w.fail("radius_end_m", "radius_base_m and radius_end_m cannot both be 0");
-    return guarded(w, [&] { return std::make_unique<dem::ConeWall>(b, a, len, r0, r1); });
-  }
-  // orifice_plate
-  const Vec3 c = w.vec3("centre_m");
-  const Vec3 n = w.direction("normal");
-  const double open_s = w.number("open_time_s", any_number());
-  const bool circle = w.has("diameter_m");
-  const bool slot = w.has("width_m");
-  if (circle && slot)
-    w.fail("width_m", "give diameter_m (a circular hole) or width_m (a slot), not both");
-  if (!circle && !slot)
-    w.fail(
-        "diameter_m",
-        "missing required key; expected diameter_m (a circular hole) or width_m + axis_u (a slot)");
-  const double opening = w.number(circle ? "diameter_m" : "width_m", above(0));
-  const Vec3 u = slot ? w.direction("axis_u") : w.vec3_or("axis_u", Vec3{});
-  const double outer = w.number_or("outer_radius_m", 0.0, at_least(0));
-  const auto shape = circle ? dem::OrificeShape::circle : dem::OrificeShape::slot;
-  return guarded(w, [&] {
-    return std::make_unique<dem::OrificePlateWall>(c, n, u, shape, opening, open_s, outer);
-  });
 }
 
 }  // namespace
@@ -237,8 +164,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   std::vector<int> wall_material;
   for (std::size_t i = 0; i < wall_ts.size(); ++i) {
     Table& w = wall_ts[i];
-    const std::string type =
-        w.choice("type", {"plane", "rectangle", "disk", "cylinder", "cone", "orifice_plate"});
+    const std::string type = w.choice("type", wall_models().names());
     const int mat = material(w, "material", w.string("material"));
     const std::string name = w.string_or("name", type + "-" + std::to_string(i));
     if (name.empty()) w.fail("name", "expected a non-empty string");
@@ -246,7 +172,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
       if (out.wall_names[j] == name)
         w.fail("name", "wall \"" + name + "\" is already defined at line " +
                            std::to_string(wall_ts[j].line()));
-    std::unique_ptr<dem::Wall> wall = read_wall_geometry(w, type);
+    std::unique_ptr<dem::Wall> wall = wall_models().at(type).model(w);
     dem::WallMotion motion;
     motion.velocity_m_s = w.vec3_or("velocity_m_s", Vec3{});
     motion.start_s = w.number_or("moves_from_s", 0.0, any_number());
@@ -264,7 +190,7 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   std::vector<Table> ins_ts = root.tables("insertion", true);
   std::vector<int> particle_material;
   for (Table& t : ins_ts) {
-    const std::string type = t.choice("type", {"pour", "fill"});
+    const std::string type = t.choice("type", inserter_models().names());
     const int mat = material(t, "material", t.string("material"));
     dem::InsertionAmount amount;
     const bool has_count = t.has("count");
@@ -282,45 +208,9 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
     Table region_t = t.table("region");
     auto region = read_region(region_t, domain);
     const double density = sim->materials()[static_cast<std::size_t>(mat)].density_kg_m3;
-    std::unique_ptr<dem::Inserter> inserter;
-    if (type == "pour") {
-      dem::PourOptions o;
-      o.material = mat;
-      o.density_kg_m3 = density;
-      o.amount = amount;
-      o.gravity_m_s2 = gravity;
-      o.velocity_m_s = t.vec3_or("velocity_m_s", Vec3{});
-      o.start_s = t.number_or("start_s", 0.0, at_least(0));
-      const bool has_rate = t.has("rate_particles_per_s");
-      if (has_rate && t.has("batch_volume_fraction"))
-        t.fail("batch_volume_fraction",
-               "give rate_particles_per_s (a steady rate) or batch_volume_fraction (batches), not "
-               "both");
-      if (has_rate) {
-        o.rate_particles_per_s = t.number("rate_particles_per_s", above(0));
-      } else {
-        o.batch_volume_fraction =
-            t.number_or("batch_volume_fraction", 0.3, between(0, true, 0.6, true));
-      }
-      o.attempts_per_particle =
-          static_cast<int>(t.integer_or("attempts_per_particle", 200, 1, 1000000));
-      t.finish();
-      inserter = guarded(
-          t, [&] { return dem::make_pour_inserter(std::move(region), std::move(sizes), o); });
-    } else {
-      dem::FillOptions o;
-      o.material = mat;
-      o.density_kg_m3 = density;
-      o.amount = amount;
-      o.time_s = t.number_or("time_s", 0.0, at_least(0));
-      o.method = t.choice_or("method", {"random", "lattice"}, "random");
-      o.lattice_gap = t.number_or("lattice_gap", 0.05, at_least(0));
-      o.attempts_per_particle =
-          static_cast<int>(t.integer_or("attempts_per_particle", 400, 1, 1000000));
-      t.finish();
-      inserter = guarded(
-          t, [&] { return dem::make_fill_inserter(std::move(region), std::move(sizes), o); });
-    }
+    const InsertionCommon common{mat, density, amount, gravity};
+    std::unique_ptr<dem::Inserter> inserter =
+        inserter_models().at(type).model(t, common, std::move(region), std::move(sizes));
     guarded(t, [&] { sim->add_inserter(std::move(inserter)); });
     out.insertion_types.push_back(type);
     particle_material.push_back(mat);

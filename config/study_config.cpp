@@ -1,12 +1,10 @@
 #include "config/study_config.hpp"
 
 #include "config/calibration_config.hpp"
+#include "config/models/apparatus_models.hpp"
 #include "config/run_sanity.hpp"
 #include "config/surrogate_config.hpp"
 
-#include "dem/apparatus/conical_pile.hpp"
-#include "dem/apparatus/rectangular_container.hpp"
-#include "dem/apparatus/sandglass.hpp"
 #include "dem/contact/restitution_damping.hpp"
 
 #include <algorithm>
@@ -20,14 +18,12 @@ namespace demcal::config {
 
 using demcal::config::reader::Context;
 using demcal::config::reader::InteractionKeys;
-using demcal::config::reader::Plausible;
 using demcal::config::reader::Range;
 using demcal::config::reader::Table;
 using demcal::config::reader::above;
 using demcal::config::reader::at_least;
 using demcal::config::reader::between;
 using demcal::config::reader::check_part_parameters;
-using demcal::config::reader::format_number;
 using demcal::config::reader::guarded;
 using demcal::config::reader::node_line;
 using demcal::config::reader::quoted_list;
@@ -44,170 +40,19 @@ namespace {
 
 // The wall groups of an apparatus kind (the names its walls are grouped under).
 std::vector<std::string> wall_group_names(const std::string& kind) {
-  if (kind == "sandglass") return dem::Sandglass::wall_group_names();
-  if (kind == "conical_pile") return dem::ConicalPile::wall_group_names();
-  return dem::RectangularContainer::wall_group_names();
+  return apparatus_models().at(kind).model.wall_group_names();
 }
 
 // Every group name any apparatus has, each once, in a stable order.
 std::vector<std::string> all_wall_group_names() {
   std::vector<std::string> all;
-  for (const char* kind : {"sandglass", "conical_pile", "rectangular_container"})
-    for (const std::string& g : wall_group_names(kind))
+  for (const auto& e : apparatus_models().entries())
+    for (const std::string& g : e.model.wall_group_names())
       if (std::find(all.begin(), all.end(), g) == all.end()) all.push_back(g);
   return all;
 }
 
-// Whether `key` occurs in `text` as a whole identifier (so that "height_m"
-// does not match inside "upper_height_m").
-std::size_t find_identifier(const std::string& text, const std::string& key) {
-  auto ident = [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  };
-  for (std::size_t pos = text.find(key); pos != std::string::npos; pos = text.find(key, pos + 1)) {
-    const bool before_ok = pos == 0 || !ident(text[pos - 1]);
-    const std::size_t end = pos + key.size();
-    const bool after_ok = end >= text.size() || !ident(text[end]);
-    if (before_ok && after_ok) return pos;
-  }
-  return std::string::npos;
-}
-
-// Constructing an apparatus checks its geometry against the fill; what it
-// refuses is an input error. It is reported at the key its message names
-// first (keys with an underscore: one-word keys are also plain words) (the one the message is
-// about: "fill_mass_kg = ... needs more than
-// ..."; keys named later are suggested remedies), else at the table.
-template <class F>
-std::unique_ptr<dem::Apparatus> build_guarded(const Table& t, F&& make) {
-  try {
-    return make();
-  } catch (const ConfigError&) {
-    throw;
-  } catch (const std::logic_error& e) {
-    const std::string message = e.what();
-    std::size_t best = std::string::npos;
-    const std::string* key = nullptr;
-    for (const std::string& k : t.known_keys()) {
-      // One-word keys ("boundary", "slice") are also English words in messages.
-      if (k.find('_') == std::string::npos) continue;
-      const std::size_t pos = find_identifier(message, k);
-      if (pos < best) {
-        best = pos;
-        key = &k;
-      }
-    }
-    if (key != nullptr) t.fail(*key, message);
-    t.fail_here(message);
-  }
-}
-
-dem::ModelReduction read_reduction(Table& t, bool slice_applies) {
-  dem::ModelReduction r;
-  if (slice_applies) {
-    r.slice = t.boolean_or("slice", false);
-    // Left alone without slice so that toggling slice with --set needs no second override.
-    if (t.has("slice_thickness_diameters") || r.slice)
-      r.slice_thickness_diameters =
-          t.number_or("slice_thickness_diameters", r.slice_thickness_diameters, at_least(2));
-  } else {
-    for (const char* k : {"slice", "slice_thickness_diameters"})
-      if (t.contains(k))
-        t.fail(k,
-               "does not apply here: the container's thickness is thickness_m or "
-               "thickness_diameters, its front and rear are `boundary`");
-  }
-  r.coarse_graining_factor = t.number_or("coarse_graining_factor", 1.0, above(0));
-  r.shear_modulus_pa = t.number_or("shear_modulus_pa", 0.0, at_least(0));
-  return r;
-}
-
 const Range kPositive = above(0);
-const Range kHalfAngle = between(0, true, 80, true);
-// A dimension of a laboratory test: positive, and at most kMaxApparatusExtent_m
-// (a 1e6 m chamber is a slip, and its fill lattice alone would not fit in memory).
-constexpr Plausible kMaxLength{kMaxApparatusExtent_m, "no laboratory test is larger"};
-
-std::unique_ptr<dem::Apparatus> read_sandglass(Table& t, const dem::GranularMaterial& m,
-                                               double max_steps, const dem::RunProtocol& p) {
-  dem::SandglassOptions o;
-  o.upper_diameter_m = t.number_at_most("upper_diameter_m", kPositive, kMaxLength);
-  o.upper_height_m = t.number_at_most("upper_height_m", kPositive, kMaxLength);
-  o.bottom = t.choice("bottom", {"flat", "conical"});
-  if (o.bottom == "conical" || t.has("hopper_half_angle_deg"))
-    o.hopper_half_angle_deg = t.number("hopper_half_angle_deg", kHalfAngle);
-  o.orifice_diameter_m = t.number_at_most("orifice_diameter_m", kPositive, kMaxLength);
-  if (o.bottom == "conical")
-    check_cone_height(t, "hopper_half_angle_deg", o.upper_diameter_m, o.orifice_diameter_m,
-                      o.hopper_half_angle_deg);
-  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
-  o.lower_diameter_m = t.number_at_most("lower_diameter_m", kPositive, kMaxLength);
-  // Refused here, naming both: the engine's message names lower_diameter_m
-  // first, which blames it when upper_diameter_m is the one too large.
-  if (o.lower_diameter_m < o.upper_diameter_m)
-    t.fail_here("upper_diameter_m = " + format_number(o.upper_diameter_m) +
-                " exceeds lower_diameter_m = " + format_number(o.lower_diameter_m) +
-                ": the lower chamber must be at least as wide as the upper one (one of the two "
-                "is wrong)");
-  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
-  o.form_pile = t.boolean_or("form_pile", o.form_pile);
-  o.fill_lattice_spacing_diameters =
-      t.number_or("fill_lattice_spacing_diameters", o.fill_lattice_spacing_diameters,
-                  between(1, true, 3, false));
-  o.reduction = read_reduction(t, true);
-  t.finish();
-  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
-  check_run_estimate(t, m, o.reduction, p, max_steps);
-  return build_guarded(t, [&] { return std::make_unique<dem::Sandglass>(o, m, p); });
-}
-
-std::unique_ptr<dem::Apparatus> read_conical_pile(Table& t, const dem::GranularMaterial& m,
-                                                  double max_steps, const dem::RunProtocol& p) {
-  dem::ConicalPileOptions o;
-  o.funnel_top_diameter_m = t.number_at_most("funnel_top_diameter_m", kPositive, kMaxLength);
-  o.funnel_outlet_diameter_m = t.number_at_most("funnel_outlet_diameter_m", kPositive, kMaxLength);
-  o.funnel_half_angle_deg = t.number("funnel_half_angle_deg", kHalfAngle);
-  check_cone_height(t, "funnel_half_angle_deg", o.funnel_top_diameter_m, o.funnel_outlet_diameter_m,
-                    o.funnel_half_angle_deg);
-  o.feed_height_m = t.number_at_most("feed_height_m", kPositive, kMaxLength);
-  o.drop_height_m = t.number_at_most("drop_height_m", kPositive, kMaxLength);
-  o.base_diameter_m = t.number_at_most("base_diameter_m", kPositive, kMaxLength);
-  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
-  o.reduction = read_reduction(t, true);
-  t.finish();
-  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
-  check_run_estimate(t, m, o.reduction, p, max_steps);
-  return build_guarded(t, [&] { return std::make_unique<dem::ConicalPile>(o, m, p); });
-}
-
-std::unique_ptr<dem::Apparatus> read_rectangular_container(Table& t, const dem::GranularMaterial& m,
-                                                           double max_steps,
-                                                           const dem::RunProtocol& p) {
-  dem::RectangularContainerOptions o;
-  o.width_m = t.number_at_most("width_m", kPositive, kMaxLength);
-  o.height_m = t.number_at_most("height_m", kPositive, kMaxLength);
-  const bool has_m = t.has("thickness_m");
-  const bool has_d = t.has("thickness_diameters");
-  if (!has_m && !has_d)
-    t.fail("thickness_m",
-           "missing required key; expected thickness_m (a number > 0) or thickness_diameters "
-           "(a number > 0)");
-  if (has_m && has_d)
-    t.fail("thickness_diameters", "give thickness_m or thickness_diameters, not both");
-  if (has_m) o.thickness_m = t.number_at_most("thickness_m", kPositive, kMaxLength);
-  if (has_d) o.thickness_diameters = t.number("thickness_diameters", kPositive);
-  o.boundary = t.choice("boundary", {"walls", "periodic"});
-  o.fill_mass_kg = t.number("fill_mass_kg", kPositive);
-  o.inlet_width_m = t.number_or("inlet_width_m", 0.0, at_least(0));
-  o.inlet_height_m = t.number_or("inlet_height_m", 0.0, between(0, false, o.height_m, true));
-  o.inlet_speed_m_s = t.number_or("inlet_speed_m_s", 0.5, kPositive);
-  o.median_band_diameters = t.number_or("median_band_diameters", 2.0, kPositive);
-  o.reduction = read_reduction(t, false);
-  t.finish();
-  check_grain_count(t, m, o.reduction, p, o.fill_mass_kg);
-  check_run_estimate(t, m, o.reduction, p, max_steps);
-  return build_guarded(t, [&] { return std::make_unique<dem::RectangularContainer>(o, m, p); });
-}
 
 dem::Material read_named_material(Table& t) {
   dem::Material m;
@@ -220,8 +65,7 @@ dem::Material read_named_material(Table& t) {
 }  // namespace
 
 const std::vector<std::string>& known_apparatus_names() {
-  static const std::vector<std::string> names = {"sandglass", "conical_pile",
-                                                 "rectangular_container"};
+  static const std::vector<std::string> names = apparatus_models().names();
   return names;
 }
 
@@ -395,12 +239,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
     a.name = name;
     a.kind = kind;
     a.line = t.line();
-    if (kind == "sandglass")
-      a.apparatus = read_sandglass(t, material, max_steps, protocol);
-    else if (kind == "conical_pile")
-      a.apparatus = read_conical_pile(t, material, max_steps, protocol);
-    else
-      a.apparatus = read_rectangular_container(t, material, max_steps, protocol);
+    a.apparatus = apparatus_models().at(kind).model.read(t, material, max_steps, protocol);
     check_apparatus_extent(t, *a.apparatus);
     out.apparatus.push_back(std::move(a));
   }

@@ -212,7 +212,9 @@
 
 namespace demcal::config {
 
-// The apparatus a study can define, as named in [apparatus.<name>].
+// The apparatus a study can define, as named in [apparatus.<name>]: the names
+// of the apparatus registry (config/models/apparatus_models.hpp), in
+// registration order.
 const std::vector<std::string>& known_apparatus_names();
 
 // mu_s, mu_r and the other short names listed above.

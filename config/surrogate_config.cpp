@@ -1,6 +1,9 @@
 #include "config/surrogate_config.hpp"
 
+#include "config/models/surrogate_models.hpp"
 #include "config/observables.hpp"
+
+#include <algorithm>
 
 namespace demcal::config {
 
@@ -9,25 +12,20 @@ std::optional<SurrogateConfig> read_surrogate(reader::Table& root) {
   reader::Table t = root.table("surrogate");
   SurrogateConfig c;
   auto& s = c.spec;
-  s.model = t.choice_or("model", {"gaussian_process", "polynomial"}, "gaussian_process");
+  const SurrogateRegistry& models = surrogate_models();
+  s.model = t.choice_or("model", models.names(), "gaussian_process");
   c.observables = t.strings_or("observables", observable_names(), {});
-  const bool gp = s.model == "gaussian_process";
-  const char* gp_only[] = {"kernel", "mean", "nugget", "starts", "seed"};
-  if (gp) {
-    if (t.contains("degree")) t.fail("degree", "applies only to model = \"polynomial\"");
-    s.kernel = surrogate::covariance_kernel_from_string(
-        t.choice_or("kernel", {"matern52", "squared_exponential"}, "matern52"));
-    s.mean = surrogate::mean_function_from_string(
-        t.choice_or("mean", {"constant", "linear"}, "constant"));
-    s.nugget = t.choice_or("nugget", {"replicates", "estimated", "none"}, "replicates");
-    s.starts = static_cast<int>(t.integer_or("starts", 8, 1, 100));
-    s.seed = static_cast<std::uint64_t>(
-        t.integer_or("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
-  } else {
-    for (const char* k : gp_only)
-      if (t.contains(k)) t.fail(k, "applies only to model = \"gaussian_process\"");
-    s.degree = static_cast<int>(t.integer_or("degree", 0, 0, 4));
-  }
+  // Another model's keys would silently do nothing: refused at the key.
+  const SurrogateRegistry::Entry& chosen = models.at(s.model);
+  const auto mine = [&](const std::string& key) {
+    return std::any_of(chosen.info.keys.begin(), chosen.info.keys.end(),
+                       [&](const ModelKey& k) { return k.key == key; });
+  };
+  for (const auto& other : models.entries())
+    for (const ModelKey& k : other.info.keys)
+      if (&other != &chosen && !mine(k.key) && t.contains(k.key))
+        t.fail(k.key, "applies only to model = \"" + other.info.name + "\"");
+  chosen.model(t, s);
   t.finish();
   return c;
 }

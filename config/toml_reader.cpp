@@ -1,5 +1,7 @@
 #include "config/toml_reader.hpp"
 
+#include "config/models/size_models.hpp"
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -101,62 +103,8 @@ void require_above(Table& t, std::string_view upper_key, const Vec3& lower, cons
 }
 
 std::unique_ptr<dem::SizeDistribution> read_size(Table& s) {
-  const std::string dist = s.choice(
-      "distribution", {"monodisperse", "uniform", "truncated_normal", "log_normal", "sieve"});
-  auto bounds = [&] {
-    const double lo = s.number("min_diameter_m", above(0));
-    const double hi = s.number("max_diameter_m", above(0));
-    if (hi < lo)
-      s.fail("max_diameter_m", "expected a number >= min_diameter_m (" + format_number(lo) +
-                                   "), got " + format_number(hi));
-    return std::pair{lo, hi};
-  };
-  std::unique_ptr<dem::SizeDistribution> out;
-  if (dist == "monodisperse") {
-    const double d = s.number("diameter_m", above(0));
-    s.finish();
-    out = guarded(s, [&] { return dem::make_monodisperse(d); });
-  } else if (dist == "uniform") {
-    // Two forms: the bounds, or a centre and a relative width (one key a design can vary).
-    if (s.has("mean_diameter_m") || s.has("relative_half_width")) {
-      for (const char* k : {"min_diameter_m", "max_diameter_m"})
-        if (s.contains(k))
-          s.fail(k,
-                 "give min_diameter_m and max_diameter_m, or mean_diameter_m and "
-                 "relative_half_width, not both forms");
-      const double mean = s.number("mean_diameter_m", above(0));
-      const double w = s.number("relative_half_width", between(0, false, 1, true));
-      s.finish();
-      out = guarded(s, [&] { return dem::make_uniform_about_mean(mean, w); });
-    } else {
-      // Not a structured binding: clang 14 cannot capture one in the lambda below.
-      const std::pair<double, double> range = bounds();
-      const double lo = range.first, hi = range.second;
-      s.finish();
-      out = guarded(s, [&] { return dem::make_uniform(lo, hi); });
-    }
-  } else if (dist == "truncated_normal") {
-    const double mean = s.number("mean_diameter_m", above(0));
-    const double sd = s.number("std_dev_m", at_least(0));
-    // Not a structured binding: clang 14 cannot capture one in the lambda below.
-    const std::pair<double, double> range = bounds();
-    const double lo = range.first, hi = range.second;
-    s.finish();
-    out = guarded(s, [&] { return dem::make_truncated_normal(mean, sd, lo, hi); });
-  } else if (dist == "log_normal") {
-    const double median = s.number("median_diameter_m", above(0));
-    const double sigma = s.number("sigma_ln", at_least(0));
-    // Not a structured binding: clang 14 cannot capture one in the lambda below.
-    const std::pair<double, double> range = bounds();
-    const double lo = range.first, hi = range.second;
-    s.finish();
-    out = guarded(s, [&] { return dem::make_log_normal(median, sigma, lo, hi); });
-  } else {
-    auto curve = s.number_pairs("sieve", "opening_m, cumulative_fraction_passing");
-    s.finish();
-    out = guarded(s, [&] { return dem::make_sieve_curve(std::move(curve)); });
-  }
-  return out;
+  const std::string dist = s.choice("distribution", size_models().names());
+  return size_models().at(dist).model(s);
 }
 
 std::string file_name_problem(std::string_view name) {
