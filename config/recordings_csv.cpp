@@ -56,13 +56,16 @@ const std::string& unit_of_observable(const std::string& observable) {
 
 void require_measured_by_setup(const calibrate::Recording& recording,
                                const std::filesystem::path& file, std::size_t line,
-                               const std::vector<RecordedSetup>& setups) {
+                               const std::vector<RecordedSetup>& setups,
+                               const std::string& given_by) {
   const auto s = std::find_if(setups.begin(), setups.end(),
                               [&](const RecordedSetup& x) { return x.name == recording.setup; });
   if (s == setups.end() || io::measures(s->kind, recording.observable)) return;
   const auto measured = io::recordable_observables(s->kind);
   fail(file, line,
-       "observable \"" + recording.observable + "\" is not measured by setup \"" +
+       "observable \"" + recording.observable + "\"" +
+           (given_by.empty() ? "" : " (given by " + given_by + ")") +
+           " is not measured by setup \"" +
            recording.setup + "\", a " + s->kind + "; a " + s->kind + " measures " +
            (measured.empty() ? std::string("nothing demcal calibrates") : joined(measured)));
 }

@@ -53,10 +53,12 @@ struct RecordedSetup {
 // measure (io/observable_registry.hpp, "measured by"): a ConfigError
 // "<file>:<line>: observable "discharge_time_s" is not measured by setup "pile",
 // a conical_pile; a conical_pile measures angle_of_repose_deg, ...". A setup
-// missing from `setups` is left to the reader's own check.
+// missing from `setups` is left to the reader's own check. `given_by`, when not
+// empty, says where the value came from ("[raw_recordings.pile]").
 void require_measured_by_setup(const calibrate::Recording& recording,
                                const std::filesystem::path& file, std::size_t line,
-                               const std::vector<RecordedSetup>& setups);
+                               const std::vector<RecordedSetup>& setups,
+                               const std::string& given_by = "");
 // The same for every recording, at its own line of `file`.
 void require_measured_by_setups(const std::vector<calibrate::Recording>& recordings,
                                 const std::filesystem::path& file,
