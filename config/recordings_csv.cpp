@@ -65,8 +65,8 @@ void require_measured_by_setup(const calibrate::Recording& recording,
   fail(file, line,
        "observable \"" + recording.observable + "\"" +
            (given_by.empty() ? "" : " (given by " + given_by + ")") +
-           " is not measured by setup \"" +
-           recording.setup + "\", a " + s->kind + "; a " + s->kind + " measures " +
+           " is not measured by setup \"" + recording.setup + "\", a " + s->kind + "; a " +
+           s->kind + " measures " +
            (measured.empty() ? std::string("nothing demcal calibrates") : joined(measured)));
 }
 

@@ -14,7 +14,10 @@ using K = ObservableKind;
 // (its mass over the volume under its surface) is a laboratory measurement, and the
 // analytic evaluator (study/analytic_evaluator.hpp) gives it for every apparatus. The
 // DEM's conical pile and rectangular container do not compute it yet; their runs
-// leave it null, so a recording of it for them fails at `demcal fit` (no values).
+// leave it null, so a recording of it for them is refused later, by `demcal fit` (no run
+// measured it) or `demcal calibrate` (no surrogate for it).
+// {name, unit, label, short label, display unit, lo, hi, lo open, range text, kind, measured by}
+// clang-format off
 const std::vector<ObservableInfo>& declarations() {
   static const std::vector<ObservableInfo> all = {
       {"angle_of_repose_deg", "deg", "angle of repose", "AoR", "°", 0.0, 90.0, false,
@@ -49,15 +52,20 @@ const std::vector<ObservableInfo>& declarations() {
   };
   return all;
 }
+// clang-format on
 
 }  // namespace
 
 std::string_view to_string(ObservableKind kind) {
   switch (kind) {
-    case K::stable: return "stable";
-    case K::series: return "series";
-    case K::auxiliary: return "auxiliary";
-    case K::trace: return "trace";
+    case K::stable:
+      return "stable";
+    case K::series:
+      return "series";
+    case K::auxiliary:
+      return "auxiliary";
+    case K::trace:
+      return "trace";
   }
   return "?";
 }
@@ -112,8 +120,8 @@ std::string observable_registry_table() {
       by.append(k);
     }
     out += std::string(o.name) + " | " + std::string(to_string(o.kind)) + " | " +
-           std::string(o.unit) + " | " + std::string(o.label) + " | " +
-           std::string(o.short_label) + " | " + std::string(o.range_text) + " | " + by + "\n";
+           std::string(o.unit) + " | " + std::string(o.label) + " | " + std::string(o.short_label) +
+           " | " + std::string(o.range_text) + " | " + by + "\n";
   }
   return out;
 }

@@ -53,8 +53,7 @@ void check(Apparatus& a, const std::vector<std::string>& not_yet_computed) {
       << r.observables.dump();
   std::vector<std::string> expected;
   for (const auto& name : declared(a.name()))
-    if (std::find(not_yet_computed.begin(), not_yet_computed.end(), name) ==
-        not_yet_computed.end())
+    if (std::find(not_yet_computed.begin(), not_yet_computed.end(), name) == not_yet_computed.end())
       expected.push_back(name);
   EXPECT_EQ(measured(r), expected) << r.observables.dump() << "\n" << r.details.dump();
 }

@@ -138,10 +138,13 @@ TEST(ObservableRegistry, EngineMeasurementsWriteOnlyWhatTheirApparatusMeasures) 
     m.discharged_kg.push_back(out);
     m.above_orifice_kg.push_back(1e-3 - out);
   }
-  const auto glass = engines::measure_engine_output(
-      {{"kind", "sandglass_slice"}, {"apparatus", "sandglass"}, {"orifice_plane_z_m", 0.03},
-       {"orifice_width_m", 0.008}, {"form_pile", false}, {"stall_time_s", 0.05}},
-      engines::ParticleDump{}, &m);
+  const auto glass = engines::measure_engine_output({{"kind", "sandglass_slice"},
+                                                     {"apparatus", "sandglass"},
+                                                     {"orifice_plane_z_m", 0.03},
+                                                     {"orifice_width_m", 0.008},
+                                                     {"form_pile", false},
+                                                     {"stall_time_s", 0.05}},
+                                                    engines::ParticleDump{}, &m);
   EXPECT_TRUE(glass.observables.contains("discharge_time_s"));
   EXPECT_EQ(dem::protocol::observables_not_measured_by("sandglass", glass.observables),
             std::vector<std::string>{});
@@ -169,13 +172,15 @@ TEST(ObservableRegistry, ARecordingTheSetupsKindDoesNotMeasureIsRefused) {
   const std::vector<config::RecordedSetup> setups = {{"glass", "sandglass"},
                                                      {"pile", "conical_pile"}};
   const std::string header = "setup,observable,value,sigma,unit\n";
-  EXPECT_EQ(refusal(header + "glass,discharge_time_s,0.5,0.01,s\npile,angle_of_repose_deg,30,1,deg\n",
-                    setups),
-            "");
-  EXPECT_EQ(refusal(header + "glass,discharge_time_s,0.5,0.01,s\npile,discharge_time_s,0.5,0.01,s\n",
-                    setups),
-            "rec.csv:3: observable \"discharge_time_s\" is not measured by setup \"pile\", a "
-            "conical_pile; a conical_pile measures angle_of_repose_deg, bulk_density_kg_m3");
+  EXPECT_EQ(
+      refusal(header + "glass,discharge_time_s,0.5,0.01,s\npile,angle_of_repose_deg,30,1,deg\n",
+              setups),
+      "");
+  EXPECT_EQ(
+      refusal(header + "glass,discharge_time_s,0.5,0.01,s\npile,discharge_time_s,0.5,0.01,s\n",
+              setups),
+      "rec.csv:3: observable \"discharge_time_s\" is not measured by setup \"pile\", a "
+      "conical_pile; a conical_pile measures angle_of_repose_deg, bulk_density_kg_m3");
   EXPECT_NE(refusal(header + "pile,discharge_t50_s,0.5,0.01,s\n", setups).find("rec.csv:2: "),
             std::string::npos);
 }
@@ -183,8 +188,8 @@ TEST(ObservableRegistry, ARecordingTheSetupsKindDoesNotMeasureIsRefused) {
 // None of the checked-in studies names an observable its setup does not measure.
 TEST(ObservableRegistry, TheCheckedInStudiesRecordingsAreAccepted) {
   std::size_t checked = 0;
-  for (const auto& dir : {fs::path(DEMCAL_SOURCE_DIR) / "studies",
-                          fs::path(DEMCAL_SOURCE_DIR) / "tests" / "data"}) {
+  for (const auto& dir :
+       {fs::path(DEMCAL_SOURCE_DIR) / "studies", fs::path(DEMCAL_SOURCE_DIR) / "tests" / "data"}) {
     for (const auto& entry : fs::directory_iterator(dir)) {
       const fs::path file = entry.path() / "study.toml";
       if (!fs::exists(file)) continue;
