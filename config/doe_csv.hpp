@@ -3,8 +3,9 @@
 // checked-in copy of one) back into numbers: what `demcal fit` fits and what
 // tests use to fit without running DEM. Header:
 //   point, replicate, seed, apparatus, <parameter columns...>,
-//   angle_of_repose_deg, discharge_time_s, mass_flow_rate_kg_s, bulk_density_kg_m3,
-//   status, hash
+//   <the stable observables>, [<the series observables>,] status, hash
+// (the observables as io/observable_registry.hpp declares them: angle_of_repose_deg,
+// discharge_time_s, ...).
 // The parameter columns are those between "apparatus" and the first
 // observable. Empty cells are NaN (not measured). A malformed file is a
 // ConfigError naming file:line and what was expected.

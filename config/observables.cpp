@@ -1,31 +1,33 @@
 #include "config/observables.hpp"
 
+#include "io/observable_registry.hpp"
+
 #include <cmath>
 #include <cstddef>
 
 namespace demcal::config {
 
+// Views of the one registry (io/observable_registry.hpp): no observable is declared here.
+
 const std::vector<std::string>& stable_observable_names() {
-  static const std::vector<std::string> names = {"angle_of_repose_deg", "discharge_time_s",
-                                                 "mass_flow_rate_kg_s", "bulk_density_kg_m3"};
+  static const std::vector<std::string> names =
+      io::observable_names_of_kind(io::ObservableKind::stable);
   return names;
 }
 
 namespace {
+// The fraction of the final discharged mass each series observable is read at.
 struct SeriesPoint {
   const char* name;
-  double fraction;  // of the final discharged mass
+  double fraction;
 };
 constexpr SeriesPoint kSeriesPoints[] = {
     {"discharge_t25_s", 0.25}, {"discharge_t50_s", 0.50}, {"discharge_t75_s", 0.75}};
 }  // namespace
 
 const std::vector<std::string>& series_observable_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> n;
-    for (const SeriesPoint& p : kSeriesPoints) n.emplace_back(p.name);
-    return n;
-  }();
+  static const std::vector<std::string> names =
+      io::observable_names_of_kind(io::ObservableKind::series);
   return names;
 }
 
@@ -38,41 +40,16 @@ const std::vector<std::string>& observable_names() {
   return names;
 }
 
-namespace {
-struct ObservableRange {
-  const char* name;
-  double lo, hi;
-  bool lo_open;
-  const char* text;
-};
-// Times up to 1e5 s (a day of discharge is no laboratory test); flow rates up to 1e4 kg/s;
-// bulk densities as material densities (up to 3e4 kg/m3).
-constexpr ObservableRange kObservableRanges[] = {
-    {"angle_of_repose_deg", 0.0, 90.0, false, "a number in [0, 90] (degrees)"},
-    {"discharge_time_s", 0.0, 1e5, true, "a number in (0, 1e5] (seconds)"},
-    {"mass_flow_rate_kg_s", 0.0, 1e4, false, "a number in [0, 1e4] (kg/s)"},
-    {"bulk_density_kg_m3", 0.0, 3e4, true, "a number in (0, 3e4] (kg/m3)"},
-    {"discharge_t25_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"},
-    {"discharge_t50_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"},
-    {"discharge_t75_s", 0.0, 1e5, false, "a number in [0, 1e5] (seconds)"}};
-
-const ObservableRange* range_of(const std::string& observable) {
-  for (const ObservableRange& r : kObservableRanges)
-    if (observable == r.name) return &r;
-  return nullptr;
-}
-}  // namespace
-
 std::string observable_range_text(const std::string& observable) {
-  const ObservableRange* r = range_of(observable);
-  return r ? r->text : "a finite number";
+  const io::ObservableInfo* o = io::find_observable(observable);
+  return o ? std::string(o->range_text) : "a finite number";
 }
 
 bool observable_in_range(const std::string& observable, double value) {
   if (!std::isfinite(value)) return false;
-  const ObservableRange* r = range_of(observable);
-  if (r == nullptr) return true;
-  return (r->lo_open ? value > r->lo : value >= r->lo) && value <= r->hi;
+  const io::ObservableInfo* o = io::find_observable(observable);
+  if (o == nullptr) return true;
+  return (o->lo_open ? value > o->lo : value >= o->lo) && value <= o->hi;
 }
 
 nlohmann::json series_observables(const nlohmann::json& series, const nlohmann::json& observables) {

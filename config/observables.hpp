@@ -2,6 +2,8 @@
 // The observables demcal measures, by name: what a design table, a recording,
 // a surrogate or a run record may name, and the physical range every reader
 // holds a value of one to (an AoR of 200 deg, a negative time are refused).
+// Views of the one registry, io/observable_registry.hpp, where every observable,
+// its unit, labels, range and the apparatus that measure it are declared.
 
 #include <nlohmann/json.hpp>
 
@@ -10,10 +12,11 @@
 
 namespace demcal::config {
 
-// angle_of_repose_deg, discharge_time_s, mass_flow_rate_kg_s, bulk_density_kg_m3:
+// The registry's stable observables (angle_of_repose_deg, discharge_time_s, ...):
 // the names a campaign reads from every apparatus run (every design table has them).
 const std::vector<std::string>& stable_observable_names();
-// discharge_t25_s, discharge_t50_s, discharge_t75_s: the m(t) series in three numbers --
+// The registry's series observables, discharge_t25_s, discharge_t50_s, discharge_t75_s
+// (config/observables.cpp holds the fraction each is read at): the m(t) series in three numbers --
 // the time from the orifice's opening until 25, 50 and 75 % of the mass that finally
 // passed had passed -- so that recordings, surrogates and the mismatch location can
 // follow the segments of the discharge (a cohesive fill slows its end, air drag all of

@@ -3,6 +3,7 @@
 #include "config/doe_csv.hpp"
 #include "config/observables.hpp"
 #include "config/toml_reader.hpp"
+#include "io/observable_registry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -41,11 +42,38 @@ std::string joined(const std::vector<std::string>& v) {
 }  // namespace
 
 const std::string& unit_of_observable(const std::string& observable) {
-  static const std::map<std::string, std::string> units = {
-      {"angle_of_repose_deg", "deg"},  {"discharge_time_s", "s"}, {"mass_flow_rate_kg_s", "kg/s"},
-      {"bulk_density_kg_m3", "kg/m3"}, {"discharge_t25_s", "s"},  {"discharge_t50_s", "s"},
-      {"discharge_t75_s", "s"}};
+  // A view of the registry (io/observable_registry.hpp), kept as strings so the
+  // reference stays valid.
+  static const std::map<std::string, std::string> units = [] {
+    std::map<std::string, std::string> u;
+    for (const io::ObservableInfo& o : io::observable_registry())
+      if (o.kind == io::ObservableKind::stable || o.kind == io::ObservableKind::series)
+        u.emplace(std::string(o.name), std::string(o.unit));
+    return u;
+  }();
   return units.at(observable);
+}
+
+void require_measured_by_setup(const calibrate::Recording& recording,
+                               const std::filesystem::path& file, std::size_t line,
+                               const std::vector<RecordedSetup>& setups,
+                               const std::string& given_by) {
+  const auto s = std::find_if(setups.begin(), setups.end(),
+                              [&](const RecordedSetup& x) { return x.name == recording.setup; });
+  if (s == setups.end() || io::measures(s->kind, recording.observable)) return;
+  const auto measured = io::recordable_observables(s->kind);
+  fail(file, line,
+       "observable \"" + recording.observable + "\"" +
+           (given_by.empty() ? "" : " (given by " + given_by + ")") +
+           " is not measured by setup \"" + recording.setup + "\", a " + s->kind + "; a " +
+           s->kind + " measures " +
+           (measured.empty() ? std::string("nothing demcal calibrates") : joined(measured)));
+}
+
+void require_measured_by_setups(const std::vector<calibrate::Recording>& recordings,
+                                const std::filesystem::path& file,
+                                const std::vector<RecordedSetup>& setups) {
+  for (const auto& r : recordings) require_measured_by_setup(r, file, r.line, setups);
 }
 
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,

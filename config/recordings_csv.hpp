@@ -10,8 +10,9 @@
 // column repeats, an integer >= 1, default 1).
 // and, for time series, CSVs with the header time_s,<quantity> (e.g.
 // time_s,discharged_mass_kg). Every row is checked: the setup must be an
-// apparatus of the study, the observable one demcal measures, the unit the
-// observable's (deg, s, kg/s, kg/m3), the value and sigma finite numbers with
+// apparatus of the study, the observable one demcal measures (and, through
+// require_measured_by_setups, one the setup's apparatus kind measures), the unit the
+// observable's (as io/observable_registry.hpp declares it), the value and sigma finite numbers with
 // sigma > 0, no observable twice for a setup. A bad row is a ConfigError naming
 // file:line and the reason; nothing is calibrated from a file with one.
 
@@ -37,7 +38,30 @@ calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path,
 calibrate::RecordedSeries read_series_csv(std::istream& in, const std::filesystem::path& path,
                                           const std::string& setup);
 
-// "deg" for angle_of_repose_deg, ...; throws std::out_of_range for an unknown observable.
+// "deg" for angle_of_repose_deg, ...: the unit io/observable_registry.hpp declares for
+// a stable or series observable; throws std::out_of_range for any other name.
 const std::string& unit_of_observable(const std::string& observable);
+
+// A setup of the study as its recordings are checked against it: the apparatus'
+// name and kind ("sandglass", "conical_pile", "rectangular_container").
+struct RecordedSetup {
+  std::string name;
+  std::string kind;
+};
+
+// Refuses a recording naming an observable its setup's apparatus kind does not
+// measure (io/observable_registry.hpp, "measured by"): a ConfigError
+// "<file>:<line>: observable "discharge_time_s" is not measured by setup "pile",
+// a conical_pile; a conical_pile measures angle_of_repose_deg, ...". A setup
+// missing from `setups` is left to the reader's own check. `given_by`, when not
+// empty, says where the value came from ("[raw_recordings.pile]").
+void require_measured_by_setup(const calibrate::Recording& recording,
+                               const std::filesystem::path& file, std::size_t line,
+                               const std::vector<RecordedSetup>& setups,
+                               const std::string& given_by = "");
+// The same for every recording, at its own line of `file`.
+void require_measured_by_setups(const std::vector<calibrate::Recording>& recordings,
+                                const std::filesystem::path& file,
+                                const std::vector<RecordedSetup>& setups);
 
 }  // namespace demcal::config

@@ -50,11 +50,21 @@ std::vector<calibrate::Recording> study_recordings(const StudyConfig& study) {
   if (!study.calibration)
     throw ConfigError(study.file + ": the study has no [calibration] table (recordings = \"...\")");
   std::vector<std::string> setups;
-  for (const auto& a : study.apparatus) setups.push_back(a.name);
+  std::vector<config::RecordedSetup> kinds;
+  for (const auto& a : study.apparatus) {
+    setups.push_back(a.name);
+    kinds.push_back({a.name, a.kind});
+  }
   std::vector<calibrate::Recording> all = read_recordings_csv(study.calibration->recordings, setups);
+  // A row naming an observable its setup's kind does not measure (io/observable_registry.hpp).
+  config::require_measured_by_setups(all, study.calibration->recordings, kinds);
   if (!study.raw_recordings) return all;
   // The raw series measured as the runs are (config/raw_recordings.hpp), beside the numbers.
   for (const auto& r : to_recordings(measure_raw_recordings(*study.raw_recordings))) {
+    for (const auto& raw : study.raw_recordings->setups)
+      if (raw.setup == r.setup)
+        config::require_measured_by_setup(r, study.file, raw.line, kinds,
+                                          "[raw_recordings." + r.setup + "]");
     for (const auto& a : all)
       if (a.setup == r.setup && a.observable == r.observable)
         throw ConfigError(study.calibration->recordings.string() + ":" + std::to_string(a.line) +

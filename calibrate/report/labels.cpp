@@ -1,6 +1,7 @@
 #include "calibrate/report/labels.hpp"
 
-#include <array>
+#include "io/observable_registry.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -8,51 +9,29 @@
 namespace demcal::calibrate {
 namespace {
 
-struct ObservableText {
-  const char* key;
-  const char* name;
-  const char* short_name;
-  const char* unit;  // as written after a number
-  const char* axis_unit;
-};
-
-constexpr std::array<ObservableText, 8> kObservables{{
-    {"angle_of_repose_deg", "angle of repose", "AoR", "°", "°"},
-    {"discharge_time_s", "discharge time", "time", " s", "s"},
-    {"discharge_t25_s", "time to 25 % discharged", "t25", " s", "s"},
-    {"discharge_t50_s", "time to 50 % discharged", "t50", " s", "s"},
-    {"discharge_t75_s", "time to 75 % discharged", "t75", " s", "s"},
-    {"mass_flow_rate_kg_s", "mass flow rate", "flow rate", " kg/s", "kg/s"},
-    {"bulk_density_kg_m3", "bulk density", "bulk density", " kg/m³", "kg/m³"},
-    {"discharged_mass_kg", "discharged mass", "mass", " kg", "kg"},
-}};
-
-const ObservableText* find(const std::string& key) {
-  for (const auto& o : kObservables)
-    if (key == o.key) return &o;
-  return nullptr;
-}
+// The labels are the registry's (io/observable_registry.hpp): no observable is named here.
+const io::ObservableInfo* find(const std::string& key) { return io::find_observable(key); }
 
 }  // namespace
 
 std::string observable_label(const std::string& observable) {
   const auto* o = find(observable);
-  return o ? std::string(o->name) + " (" + o->axis_unit + ")" : observable;
+  return o ? std::string(o->label) + " (" + std::string(o->display_unit) + ")" : observable;
 }
 
 std::string observable_name(const std::string& observable) {
   const auto* o = find(observable);
-  return o ? o->name : observable;
+  return o ? std::string(o->label) : observable;
 }
 
 std::string observable_short(const std::string& observable) {
   const auto* o = find(observable);
-  return o ? o->short_name : observable;
+  return o ? std::string(o->short_label) : observable;
 }
 
 std::string observable_unit_suffix(const std::string& observable) {
   const auto* o = find(observable);
-  return o ? o->unit : "";
+  return o ? io::value_suffix(*o) : "";
 }
 
 std::string parameter_label(const std::string& parameter) {
@@ -64,8 +43,8 @@ std::string parameter_label(const std::string& parameter) {
 }
 
 std::string humanize_identifiers(std::string text) {
-  for (const auto& o : kObservables) {
-    const std::string key = o.key, label = observable_label(o.key);
+  for (const auto& o : io::observable_registry()) {
+    const std::string key(o.name), label = observable_label(key);
     for (const std::string& form : {"'" + key + "'", key}) {
       for (auto k = text.find(form); k != std::string::npos; k = text.find(form, k + label.size()))
         text.replace(k, form.size(), label);

@@ -1,6 +1,7 @@
 #pragma once
-// One table of what the reports and the console call each observable and
-// parameter: a reader meets "angle of repose (°)", not "angle_of_repose_deg".
+// What the reports and the console call each observable and parameter: a
+// reader meets "angle of repose (°)", not "angle_of_repose_deg". The
+// observables' labels are views of the one registry, io/observable_registry.hpp.
 // Numbers are written as people write them (significant digits, round-off
 // zeros as 0).
 

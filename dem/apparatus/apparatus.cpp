@@ -1,6 +1,7 @@
 #include "dem/apparatus/apparatus.hpp"
 
 #include "dem/apparatus/granular_material.hpp"
+#include "io/observable_registry.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -45,6 +46,14 @@ SimulationOptions options_for(const GranularMaterial& m, const RunProtocol& p, c
   o.seed = p.seed;
   o.threads = p.threads;
   return o;
+}
+
+std::vector<std::string> observables_not_measured_by(std::string_view apparatus_kind,
+                                                     const nlohmann::json& observables) {
+  std::vector<std::string> wrong;
+  for (const auto& [name, value] : observables.items())
+    if (!io::measures(apparatus_kind, name)) wrong.push_back(name);
+  return wrong;
 }
 
 void require_positive(const char* apparatus, double value, const char* name) {

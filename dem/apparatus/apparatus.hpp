@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace demcal::dem {
 
@@ -84,6 +85,13 @@ void require_positive(const char* apparatus, double value, const char* name);
 double check_particle_count(const char* apparatus, double fill_mass_kg,
                             const SizeDistribution& sizes, double density_kg_m3,
                             const RunProtocol& p);
+
+// The names of an ApparatusResult's `observables` that io/observable_registry.hpp does
+// not declare measured by `apparatus_kind` ("sandglass", "conical_pile",
+// "rectangular_container"): empty for every apparatus and engine measurement (the
+// tests hold them to it), so that no run writes a name a reader does not know.
+std::vector<std::string> observables_not_measured_by(std::string_view apparatus_kind,
+                                                     const nlohmann::json& observables);
 
 // The mass of p.max_particles + 1 mean grains: a capacity count need go no
 // further, since a fill beyond it is refused anyway.
