@@ -71,7 +71,102 @@ Eigen::VectorXd vec_from(const nlohmann::json& a) {
 double finite_or_nan(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
 nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
+// polynomial: total degree given, or chosen by leave-one-out.
+double fit_polynomial_kind(const ReplicatedData& data, const SurrogateSpec& spec,
+                           const PointMeans& means, FittedSurrogate& f) {
+  double replicates_per_point = 1.0;
+  // Fitted to the point means: leave-one-out then leaves out a whole point,
+  // not one replicate whose twin stays in and flatters the error.
+  PolynomialOptions po;
+  po.input_names = data.input_names;
+  po.lower = data.lower;
+  po.upper = data.upper;
+  replicates_per_point = means.replicates.mean();
+  if (spec.degree == 0) {
+    DegreeSelection sel = select_polynomial_degree(means.x, means.y, po);
+    f.degrees_tried = sel.degrees;
+    f.degree_cv_rmse = sel.cv_rmse;
+    f.model = std::make_shared<PolynomialSurface>(std::move(sel.surface));
+  } else {
+    po.degree = spec.degree;
+    f.model = std::make_shared<PolynomialSurface>(PolynomialSurface::fit(means.x, means.y, po));
+  }
+  return replicates_per_point;
+}
+
+// gaussian_process: the nugget from the replicates, estimated, or none.
+double fit_gaussian_process_kind(const ReplicatedData& data, const SurrogateSpec& spec,
+                                 const PointMeans& means, FittedSurrogate& f) {
+  const std::string& name = data.output_name;
+  double replicates_per_point = 1.0;
+  GaussianProcessOptions go;
+  go.kernel = spec.kernel;
+  go.mean = spec.mean;
+  go.input_names = data.input_names;
+  go.lower = data.lower;
+  go.upper = data.upper;
+  go.starts = spec.starts;
+  go.seed = spec.seed;
+  if (spec.nugget == "estimated") {
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(f.runs), data.x.cols());
+    Eigen::VectorXd y(static_cast<Eigen::Index>(f.runs));
+    Eigen::Index k = 0;
+    for (Eigen::Index i = 0; i < data.y.size(); ++i)
+      if (std::isfinite(data.y(i))) {
+        x.row(k) = data.x.row(i);
+        y(k++) = data.y(i);
+      }
+    go.nugget = NuggetMode::estimated;
+    f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(x, y, go));
+  } else if (spec.nugget == "replicates") {
+    if (!std::isfinite(f.scatter.sd))
+      throw std::invalid_argument(name + ": nugget = \"replicates\" needs replicates (two or more runs at a "
+                                         "point); the design has none. Add replicates or use nugget = "
+                                         "\"estimated\"");
+    go.nugget = NuggetMode::fixed;
+    for (Eigen::Index i = 0; i < means.y.size(); ++i)
+      go.nugget_variances.push_back(f.scatter.sd * f.scatter.sd / means.replicates(i));
+    replicates_per_point = means.replicates.mean();
+    f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(means.x, means.y, go));
+  } else {
+    go.nugget = NuggetMode::none;
+    replicates_per_point = means.replicates.mean();
+    f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(means.x, means.y, go));
+  }
+  return replicates_per_point;
+}
+
+// The run-time table of surrogate kinds, in registration order (the order messages list
+// them in). A kind fits FittedSurrogate::model (and what it reports of its own choice) and
+// returns the replicates per point its error is compared against the scatter with.
+using KindFit = double (*)(const ReplicatedData&, const SurrogateSpec&, const PointMeans&,
+                           FittedSurrogate&);
+struct SurrogateKind {
+  const char* name;
+  KindFit fit;
+};
+constexpr SurrogateKind kSurrogateKinds[] = {
+    {"gaussian_process", &fit_gaussian_process_kind},
+    {"polynomial", &fit_polynomial_kind},
+};
+
+const SurrogateKind& surrogate_kind(const std::string& model, const std::string& output_name) {
+  for (const SurrogateKind& k : kSurrogateKinds)
+    if (model == k.name) return k;
+  std::string known;
+  for (const SurrogateKind& k : kSurrogateKinds)
+    known += std::string(known.empty() ? "" : " or ") + "\"" + k.name + "\"";
+  throw std::invalid_argument(output_name + ": surrogate model must be " + known + ", not \"" +
+                              model + "\"");
+}
+
 }  // namespace
+
+std::vector<std::string> surrogate_model_names() {
+  std::vector<std::string> names;
+  for (const SurrogateKind& k : kSurrogateKinds) names.emplace_back(k.name);
+  return names;
+}
 
 ReplicateScatter replicate_scatter(const ReplicatedData& data) {
   ReplicateScatter s;
@@ -94,9 +189,7 @@ ReplicateScatter replicate_scatter(const ReplicatedData& data) {
 
 FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& spec) {
   const std::string& name = data.output_name;
-  if (spec.model != "gaussian_process" && spec.model != "polynomial")
-    throw std::invalid_argument(name + ": surrogate model must be \"gaussian_process\" or \"polynomial\", not \"" +
-                                spec.model + "\"");
+  const SurrogateKind& kind = surrogate_kind(spec.model, name);
   if (spec.nugget != "replicates" && spec.nugget != "estimated" && spec.nugget != "none")
     throw std::invalid_argument(name + ": nugget must be \"replicates\", \"estimated\" or \"none\", not \"" +
                                 spec.nugget + "\"");
@@ -109,61 +202,7 @@ FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& s
   if (means.y.size() < 3)
     throw std::invalid_argument(name + ": " + std::to_string(means.y.size()) +
                                 " design points with a value; a surrogate needs at least 3");
-  double replicates_per_point = 1.0;
-
-  if (spec.model == "polynomial") {
-    // Fitted to the point means: leave-one-out then leaves out a whole point,
-    // not one replicate whose twin stays in and flatters the error.
-    PolynomialOptions po;
-    po.input_names = data.input_names;
-    po.lower = data.lower;
-    po.upper = data.upper;
-    replicates_per_point = means.replicates.mean();
-    if (spec.degree == 0) {
-      DegreeSelection sel = select_polynomial_degree(means.x, means.y, po);
-      f.degrees_tried = sel.degrees;
-      f.degree_cv_rmse = sel.cv_rmse;
-      f.model = std::make_shared<PolynomialSurface>(std::move(sel.surface));
-    } else {
-      po.degree = spec.degree;
-      f.model = std::make_shared<PolynomialSurface>(PolynomialSurface::fit(means.x, means.y, po));
-    }
-  } else {
-    GaussianProcessOptions go;
-    go.kernel = spec.kernel;
-    go.mean = spec.mean;
-    go.input_names = data.input_names;
-    go.lower = data.lower;
-    go.upper = data.upper;
-    go.starts = spec.starts;
-    go.seed = spec.seed;
-    if (spec.nugget == "estimated") {
-      Eigen::MatrixXd x(static_cast<Eigen::Index>(f.runs), data.x.cols());
-      Eigen::VectorXd y(static_cast<Eigen::Index>(f.runs));
-      Eigen::Index k = 0;
-      for (Eigen::Index i = 0; i < data.y.size(); ++i)
-        if (std::isfinite(data.y(i))) {
-          x.row(k) = data.x.row(i);
-          y(k++) = data.y(i);
-        }
-      go.nugget = NuggetMode::estimated;
-      f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(x, y, go));
-    } else if (spec.nugget == "replicates") {
-      if (!std::isfinite(f.scatter.sd))
-        throw std::invalid_argument(name + ": nugget = \"replicates\" needs replicates (two or more runs at a "
-                                           "point); the design has none. Add replicates or use nugget = "
-                                           "\"estimated\"");
-      go.nugget = NuggetMode::fixed;
-      for (Eigen::Index i = 0; i < means.y.size(); ++i)
-        go.nugget_variances.push_back(f.scatter.sd * f.scatter.sd / means.replicates(i));
-      replicates_per_point = means.replicates.mean();
-      f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(means.x, means.y, go));
-    } else {
-      go.nugget = NuggetMode::none;
-      replicates_per_point = means.replicates.mean();
-      f.model = std::make_shared<GaussianProcess>(GaussianProcess::fit(means.x, means.y, go));
-    }
-  }
+  const double replicates_per_point = kind.fit(data, spec, means, f);
   f.loo = f.model->leave_one_out();
   f.validation = validation_metrics(f.loo);
   if (std::isfinite(f.scatter.sd) && f.scatter.sd > 0.0) {

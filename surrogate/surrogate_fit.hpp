@@ -32,6 +32,11 @@ struct ReplicatedData {
   std::string output_name;  // e.g. "angle_of_repose_deg"
 };
 
+// The surrogate kinds fit_surrogate knows, in registration order ("gaussian_process",
+// "polynomial"): SurrogateSpec::model names one. The study reader's table of the same kinds
+// (config/models/surrogate_models.hpp) is checked against this list by a test.
+std::vector<std::string> surrogate_model_names();
+
 struct SurrogateSpec {
   std::string model = "gaussian_process";  // | "polynomial"
   // polynomial: total degree 1..4, or 0 = chosen by leave-one-out cross-validation.

@@ -18,6 +18,7 @@
 #include "config/run_sanity.hpp"
 #include "config/schema.hpp"
 #include "config/study_config.hpp"
+#include "surrogate/surrogate_fit.hpp"
 
 #include <gtest/gtest.h>
 
@@ -280,6 +281,12 @@ TEST(ModelRegistry, NamesInRegistrationOrderAndTheOldMessageLists) {
                                                              "sieve"}));
   EXPECT_EQ(surrogate_models().names(),
             (std::vector<std::string>{"gaussian_process", "polynomial"}));
+}
+
+TEST(ModelRegistry, TheReadersSurrogateKindsAreTheOnesTheFitterKnows) {
+  // Two tables for one family, each where its layer needs it (config reads the keys,
+  // surrogate/ fits): a kind in one and not the other would be accepted and then refused.
+  EXPECT_EQ(surrogate_models().names(), surrogate::surrogate_model_names());
 }
 
 TEST(ModelRegistry, LookupByNameAndUnknownName) {
