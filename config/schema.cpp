@@ -1,5 +1,7 @@
 #include "config/schema.hpp"
 
+#include "io/observable_registry.hpp"
+
 #include "config/model_registry.hpp"
 #include "config/physics_candidates.hpp"
 #include "config/toml_reader.hpp"
@@ -99,6 +101,12 @@ std::vector<SchemaEntry> schema_entries() {
 }
 
 std::string schema_text(const std::string& name) {
+  // The observables are a table of their own (name, unit, range, the apparatus that measure
+  // them: io/observable_registry.hpp), not keys of a model.
+  const std::string observables =
+      "observables (what a recording, a design table or a surrogate may name)\n" +
+      io::observable_registry_table();
+  if (name == "observables") return observables;
   const std::vector<SchemaEntry> all = schema_entries();
   const auto wanted = [&](const SchemaEntry& e) {
     return name.empty() || e.name == name || e.kind == name || (!e.alias.empty() && e.alias == name) ||
@@ -106,7 +114,7 @@ std::string schema_text(const std::string& name) {
            (name == "candidates" && e.kind == "diagnosis candidate");
   };
   if (std::none_of(all.begin(), all.end(), wanted)) {
-    std::set<std::string> known = {"contact", "candidates"};
+    std::set<std::string> known = {"contact", "candidates", "observables"};
     for (const SchemaEntry& e : all) {
       known.insert(e.name);
       known.insert(e.kind);
@@ -128,6 +136,7 @@ std::string schema_text(const std::string& name) {
         << "\n";
     }
   }
+  if (name.empty()) s << "\n" << observables;
   return s.str();
 }
 

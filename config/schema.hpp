@@ -42,8 +42,9 @@ std::vector<SchemaEntry> schema_entries();
 // name, kind or kind's alias is `name` (a model: "sandglass", "plane",
 // "log_normal", ...; a family: "apparatus", "wall", "region", "insertion",
 // "size distribution" or "size", "surrogate"; a part, "contact",
-// "contact.adhesion", "candidates" or a candidate's name). An unknown name throws ConfigError listing the
-// names known.
+// "contact.adhesion", "candidates" or a candidate's name), or "observables": the observable
+// registry's table (io/observable_registry.hpp), which the full listing ends with. An unknown
+// name throws ConfigError listing the names known.
 std::string schema_text(const std::string& name);
 
 }  // namespace demcal::config

@@ -18,6 +18,7 @@
 #include "config/run_sanity.hpp"
 #include "config/schema.hpp"
 #include "config/study_config.hpp"
+#include "io/observable_registry.hpp"
 #include "surrogate/surrogate_fit.hpp"
 
 #include <gtest/gtest.h>
@@ -287,6 +288,13 @@ TEST(ModelRegistry, TheReadersSurrogateKindsAreTheOnesTheFitterKnows) {
   // Two tables for one family, each where its layer needs it (config reads the keys,
   // surrogate/ fits): a kind in one and not the other would be accepted and then refused.
   EXPECT_EQ(surrogate_models().names(), surrogate::surrogate_model_names());
+}
+
+TEST(ModelRegistry, SchemaListsTheObservablesFromTheirRegistry) {
+  const std::string table = schema_text("observables");
+  for (const auto& o : io::observable_registry())
+    EXPECT_NE(table.find(std::string(o.name)), std::string::npos) << o.name;
+  EXPECT_NE(schema_text("").find(table), std::string::npos) << "the full listing ends with it";
 }
 
 TEST(ModelRegistry, LookupByNameAndUnknownName) {
