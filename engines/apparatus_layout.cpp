@@ -253,11 +253,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
     return {std::nullopt,
             "sandglass: the slice's conical (hopper) bottom is not written as deck primitives yet "
             "(two slanted plates); use bottom = \"flat\""};
+  // A polydisperse fill: the lattice is spaced for the largest diameter, and the
+  // deck gives its sites the size classes' diameters at random (lammps_deck.cpp).
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
-  if (sizes->min_diameter_m() != sizes->max_diameter_m())
-    return {std::nullopt,
-            "sandglass: the lattice fill is written for one diameter; a polydisperse fill is not "
-            "written yet"};
   ApparatusLayout l;
   l.apparatus = "sandglass";
   l.variant = "slice";
@@ -341,10 +339,6 @@ LayoutResult layout_conical_pile(const dem::ConicalPileOptions& options,
             "conical_pile: the slice's V-shaped funnel (two slanted plates) is not written as deck "
             "primitives yet; use the full pile"};
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
-  if (sizes->min_diameter_m() != sizes->max_diameter_m())
-    return {std::nullopt,
-            "conical_pile: the lattice fill is written for one diameter; a polydisperse fill is "
-            "not written yet"};
   // The numbers dem::ConicalPile derives, the same way.
   const double d = dem::mean_diameter_m(*sizes);
   const double d_max = sizes->max_diameter_m();

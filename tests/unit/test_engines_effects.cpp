@@ -1,0 +1,222 @@
+// The LAMMPS mappings of the concealed studies' effects (issue 19): JKR
+// adhesion (cohesion), air drag, a polydisperse lattice fill (size spread).
+// Golden decks in tests/data/engines/ (DEMCAL_UPDATE_GOLDEN=1 rewrites them),
+// the mapped numbers against demcal's own laws, and what LIGGGHTS still refuses.
+#include "engines/lammps_deck.hpp"
+#include "engines/liggghts_deck.hpp"
+
+#include "dem/air_drag.hpp"
+#include "dem/contact/jkr_adhesion.hpp"
+#include "dem/particles.hpp"
+#include "tests/support/engine_fixtures.hpp"
+#include "tests/support/golden.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <regex>
+#include <string>
+
+namespace demcal::engines {
+namespace {
+
+using testing::expect_golden;
+using testing::peer_material;
+
+dem::GranularMaterial cohesive(double gamma_j_m2) {
+  auto m = peer_material();
+  m.contact.adhesion = "jkr";
+  m.particle_particle.surface_energy_j_m2 = gamma_j_m2;
+  m.particle_wall.surface_energy_j_m2 = 0.5 * gamma_j_m2;
+  return m;
+}
+
+dem::SandglassOptions small_slice() {
+  dem::SandglassOptions s;
+  s.bottom = "flat";
+  s.reduction.slice = true;
+  s.reduction.slice_thickness_diameters = 4.0;
+  s.upper_diameter_m = 0.024;
+  s.orifice_diameter_m = 0.008;
+  s.upper_height_m = 0.1;
+  s.lower_diameter_m = 0.06;
+  s.drop_height_m = 0.03;
+  s.fill_mass_kg = 0.01;
+  s.fill_lattice_spacing_diameters = 1.25;
+  return s;
+}
+
+dem::RectangularContainerOptions small_container(const std::string& boundary) {
+  dem::RectangularContainerOptions o;
+  o.width_m = 0.1;
+  o.height_m = 0.05;
+  o.thickness_diameters = 6.0;
+  o.boundary = boundary;
+  o.fill_mass_kg = 0.005;
+  return o;
+}
+
+// The numbers after `word` on the deck's line that starts with `head`.
+std::string line_starting(const std::string& script, const std::string& head) {
+  const auto at = script.find("\n" + head);
+  if (at == std::string::npos) return "";
+  return script.substr(at + 1, script.find('\n', at + 1) - at - 1);
+}
+
+TEST(EnginesEffects, JkrMapsOntoLammpsGranularJkrWithDemcalsStiffnessAndPullOff) {
+  dem::ModelReduction r;
+  r.coarse_graining_factor = 14.0;
+  r.shear_modulus_pa = 1e7;
+  const auto mapped = map_to_lammps(cohesive(4e-4), r);
+  ASSERT_TRUE(mapped.ok()) << mapped.refusal;
+  const LammpsMapping& m = mapped.value();
+  ASSERT_TRUE(m.particle_particle.jkr);
+  // gamma x f^2, as install_materials coarse-grains it.
+  EXPECT_NEAR(m.particle_particle.surface_energy_j_m2, 4e-4 * 196.0, 1e-15);
+  EXPECT_NEAR(m.particle_wall.surface_energy_j_m2, 2e-4 * 196.0, 1e-15);
+  // LAMMPS's jkr E with nu = 0 mixes to E / 2: it must give back demcal's E*.
+  const double e_star = 0.75 * m.particle_particle.normal_stiffness_pa;
+  const std::string words = m.particle_particle.granular_words();
+  EXPECT_EQ(words.rfind("jkr " + deck_number(2.0 * e_star) + " ", 0), 0u) << words;
+  EXPECT_EQ(words.find("limit_damping"), std::string::npos) << words;  // LAMMPS refuses it with jkr
+  EXPECT_NE(words.find(" 0 " + deck_number(4e-4 * 196.0) + " damping tsuji tangential mindlin"),
+            std::string::npos)
+      << words;
+  // The pull-off force LAMMPS computes from these numbers (3 pi gamma R*) is
+  // demcal's; so is the JKR force at an overlap (demcal's curve vs LAMMPS's
+  // closed form of a(delta), both at D = delta R*/a_c^2 = 1).
+  const double gamma = m.particle_particle.surface_energy_j_m2, reff = 0.25e-3;
+  const double ac = std::cbrt(dem::jkr::critical_radius_cubed_m3(e_star, gamma, reff));
+  const double delta = ac * ac / reff;
+  const dem::JkrContact c = dem::jkr::contact(e_star, gamma, reff, delta);
+  const double a = c.contact_radius_m;
+  const double lammps_force = 4.0 / 3.0 * e_star * a * a * a / reff -
+                              2.0 * std::numbers::pi * a * a *
+                                  std::sqrt(4.0 * gamma * e_star / (std::numbers::pi * a));
+  EXPECT_NEAR(lammps_force, c.force_n, 1e-9 * std::abs(c.force_n));
+  // The statement of what differs goes into the record.
+  bool stated = false;
+  for (const auto& s : m.approximations) stated = stated || s.find("force-controlled") != s.npos;
+  EXPECT_TRUE(stated);
+  // Dry materials keep the hertz words, unchanged.
+  EXPECT_EQ(map_to_lammps(peer_material(), r).value().particle_particle.granular_words().rfind(
+                "hertz ", 0),
+            0u);
+}
+
+TEST(EnginesEffects, LammpsSandglassSliceWithJkrGolden) {
+  const auto r = write_lammps_deck(small_slice(), cohesive(1e-3), dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  expect_golden(r.deck->script, "engines/lammps_sandglass_slice_jkr.in");
+  // Every wall contact is JKR too.
+  EXPECT_NE(line_starting(r.deck->script, "fix             wall_floor").find("granular jkr "),
+            std::string::npos);
+  EXPECT_NE(line_starting(r.deck->script, "pair_coeff").find("* * jkr "), std::string::npos);
+}
+
+TEST(EnginesEffects, AirDragIsDemcalsSchillerNaumannAsAtomStyleVariables) {
+  auto m = peer_material();
+  m.sizes = dem::make_monodisperse(0.2e-3);  // 2.8 mm parcels of 0.2 mm grains
+  m.air_drag = dem::AirProperties{};
+  m.air_drag->drag_scale = 0.8;
+  auto o = small_container("periodic");
+  o.reduction.coarse_graining_factor = 14.0;
+  const auto r = write_lammps_deck(o, m, dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  expect_golden(r.deck->script, "engines/lammps_rectangular_container_air_drag.in");
+  const std::string& s = r.deck->script;
+  EXPECT_NE(s.find("fix             air_drag all addforce v_drag_fx v_drag_fy v_drag_fz"),
+            std::string::npos);
+  // Evaluate the deck's expressions as LAMMPS would, for one atom, and compare
+  // with demcal's AirDrag on the same parcel.
+  auto coefficient = [&](const std::string& name) {
+    const std::string line = line_starting(s, "variable        " + name + " atom ");
+    const std::string rest = line.substr(line.find(" atom ") + 6);
+    return std::stod(rest.substr(0, rest.find('*')));
+  };
+  const double re_per_radius_speed = coefficient("drag_re");
+  const double c_per_radius = coefficient("drag_c");
+  const double radius = 0.7e-3, speed = 1.3;
+  const double re = re_per_radius_speed * radius * speed;
+  const double k = re < 1000.0 ? 1.0 + 0.15 * std::pow(re, 0.687) : 0.44 / 24.0 * re;
+  const double lammps_fz = c_per_radius * radius * k * (-speed);
+
+  dem::Particles p;
+  p.add({0.0, 0.0, 0.0}, radius, 2650.0, 0, 1, {0.0, 0.0, -speed});
+  std::vector<dem::Vec3> force(1), torque(1);
+  dem::AirDrag(*m.air_drag, 14.0).add(p, 0, 1, force, torque);
+  EXPECT_NEAR(lammps_fz, force[0].z, 1e-12 * std::abs(force[0].z));
+  EXPECT_GT(lammps_fz, 0.0);  // opposes the fall
+  EXPECT_TRUE(r.deck->record["mapping"].contains("air_drag"));
+  // Without drag the record has no such entry (records of earlier decks unchanged).
+  auto still = m;
+  still.air_drag.reset();
+  EXPECT_FALSE(write_lammps_deck(o, still, dem::RunProtocol{})
+                   .deck->record["mapping"]
+                   .contains("air_drag"));
+}
+
+TEST(EnginesEffects, PolydisperseLatticeFillGolden) {
+  auto m = peer_material();
+  m.sizes = dem::make_uniform(0.7e-3, 1.3e-3);
+  const auto r = write_lammps_deck(small_slice(), m, dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  expect_golden(r.deck->script, "engines/lammps_sandglass_slice_polydisperse.in");
+  const std::string& s = r.deck->script;
+  EXPECT_NE(s.find("create_box      8 box"), std::string::npos);
+  EXPECT_NE(s.find("set             type 2*8 type 1"), std::string::npos);
+  // The type/ratio shares, applied in turn to what is still type 1, give every
+  // class its number fraction 1/8.
+  const std::regex ratio("type/ratio ([0-9]+) ([0-9.e-]+) ");
+  double left = 1.0;
+  int classes = 0;
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), ratio); it != std::sregex_iterator();
+       ++it) {
+    const double share = std::stod((*it)[2]);
+    EXPECT_NEAR(left * share, 1.0 / 8.0, 1e-12);
+    left -= left * share;
+    ++classes;
+  }
+  EXPECT_EQ(classes, 7);
+  EXPECT_NEAR(left, 1.0 / 8.0, 1e-12);
+  // The lattice is spaced for the largest grain: 1.25 x 1.3 mm.
+  EXPECT_DOUBLE_EQ(r.deck->record["layout"]["lattice_fill"]["spacing_m"].get<double>(),
+                   1.25 * 1.3e-3);
+  // A monodisperse fill keeps its one type and one diameter (goldens of before).
+  const auto mono = write_lammps_deck(small_slice(), peer_material(), dem::RunProtocol{});
+  EXPECT_NE(mono.deck->script.find("create_box      1 box"), std::string::npos);
+}
+
+TEST(EnginesEffects, ConicalPilePolydisperseFillIsWritten) {
+  dem::ConicalPileOptions o;
+  o.funnel_top_diameter_m = 0.02;
+  o.funnel_outlet_diameter_m = 0.006;
+  o.feed_height_m = 0.05;
+  o.drop_height_m = 0.02;
+  o.base_diameter_m = 0.03;
+  o.fill_mass_kg = 0.004;
+  auto m = peer_material();
+  m.sizes = dem::make_uniform(0.8e-3, 1.2e-3);
+  const auto r = write_lammps_deck(o, m, dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  EXPECT_NE(r.deck->script.find("type/ratio 8 "), std::string::npos);
+}
+
+TEST(EnginesEffects, LiggghtsStillRefusesTheEffects) {
+  const dem::RunProtocol p;
+  auto six = small_slice();
+  six.reduction.slice_thickness_diameters = 6.0;
+  EXPECT_NE(write_liggghts_deck(six, cohesive(1e-3), p).refusal.find("adhesion \"jkr\""),
+            std::string::npos);
+  auto drag = peer_material();
+  drag.air_drag = dem::AirProperties{};
+  EXPECT_NE(write_liggghts_deck(six, drag, p).refusal.find("air drag"), std::string::npos);
+  auto poly = peer_material();
+  poly.sizes = dem::make_uniform(0.8e-3, 1.2e-3);
+  EXPECT_NE(write_liggghts_deck(six, poly, p).refusal.find("polydisperse lattice fill"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace demcal::engines
