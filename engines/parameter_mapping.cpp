@@ -164,14 +164,15 @@ std::string LammpsMapping::air_drag_commands() const {
   // the prefactor per unit radius is drag_scale f^2 6 pi mu.
   std::ostringstream s;
   s << "# air drag (dem/air_drag.hpp): Schiller-Naumann on the grain of diameter 2 r / f\n"
+    << "compute         drag_radius all property/atom radius\n"
     << "variable        drag_speed atom sqrt(vx*vx+vy*vy+vz*vz)\n"
     << "variable        drag_re atom " << num(a.density_kg_m3 * 2.0 / (f * a.dynamic_viscosity_pa_s))
-    << "*radius*v_drag_speed\n"
+    << "*c_drag_radius*v_drag_speed\n"
     << "variable        drag_k atom (v_drag_re<1000)*(1+0.15*v_drag_re^0.687)+(v_drag_re>=1000)*"
     << num(0.44 / 24.0) << "*v_drag_re\n"
     << "variable        drag_c atom " << num(-a.drag_scale * f * f * 6.0 * std::numbers::pi *
                                               a.dynamic_viscosity_pa_s)
-    << "*radius*v_drag_k\n"
+    << "*c_drag_radius*v_drag_k\n"
     << "variable        drag_fx atom v_drag_c*vx\n"
     << "variable        drag_fy atom v_drag_c*vy\n"
     << "variable        drag_fz atom v_drag_c*vz\n"
@@ -271,7 +272,19 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     map.parameters.push_back(
         {pair, "mindlin x_gamma_t", l.tangential_damping_factor, "2 sqrt(G*/E*)"});
     map.parameters.push_back({pair, "mindlin mu_s", l.sliding_friction, "demcal mu_s"});
-    if (m.contact.adhesion == "jkr") {
+    if (m.contact.adhesion == "jkr" && wall && p.surface_energy_j_m2 > 0.0 &&
+        !options.allow_dry_walls) {
+      result.refusal =
+          "LAMMPS cannot give the walls JKR adhesion (interaction.particle_wall.surface_energy_j_m2 "
+          "= " +
+          num(p.surface_energy_j_m2) +
+          "): fix wall/gran granular jkr in LAMMPS 29Sep2021 gives NaN forces when a grain leaves "
+          "a wall it touched. Set it to 0, or allow dry walls (MappingOptions::allow_dry_walls)";
+      return std::nullopt;
+    }
+    // Walls stay hertz (dry: refused above, or allowed); a pair with gamma = 0
+    // too (LAMMPS's JKR at zero surface energy divides 0 by 0 at a = 0).
+    if (m.contact.adhesion == "jkr" && !wall && p.surface_energy_j_m2 > 0.0) {
       l.jkr = true;
       // The part's own coarse-graining rule (gamma f^2), as install_materials applies it.
       l.surface_energy_j_m2 = dem::JkrAdhesion::kParameters[0].coarse_grained(
@@ -323,6 +336,11 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
         "a_c^2/R*, force -3 pi gamma R*), demcal at the displacement-controlled one (-3 a_c^2/R*, "
         "-5/9 of it); LAMMPS damps with the JKR contact radius and also while held apart, "
         "without limit_damping; its friction load leaves the damping out");
+  if (m.contact.adhesion == "jkr" && m.particle_wall.surface_energy_j_m2 > 0.0)
+    map.approximations.push_back(
+        "walls dry (hertz): demcal's particle_wall surface energy " +
+        num(m.particle_wall.surface_energy_j_m2) +
+        " J/m^2 is left out (allow_dry_walls; LAMMPS 29Sep2021's wall JKR is unusable)");
   if (m.air_drag) {
     map.air_drag = m.air_drag;
     map.coarse_graining_factor = reduction.coarse_graining_factor;

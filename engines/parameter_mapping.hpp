@@ -55,6 +55,12 @@
 //    while held apart, demcal with the Hertz a and only at positive overlap;
 //    LAMMPS's friction load leaves the normal damping out, demcal's has it; and
 //    LAMMPS refuses limit_damping with JKR (the damped force may pull).
+//    Walls: a particle_wall surface energy is refused. fix wall/gran granular jkr
+//    in 29Sep2021 gives NaN forces as soon as a grain leaves a wall it touched
+//    (measured: a 1 mm grain dropped 0.5 mm onto a jkr plane with gamma = 0.05
+//    J/m^2 bounces, and the run dies with "Non-numeric atom coords"; held on the
+//    wall from the start it rests at the JKR overlap). allow_dry_walls runs the
+//    walls as dry hertz instead (stated in the approximations).
 //  * air drag (dem/air_drag.hpp): "fix addforce" with atom-style variables that
 //    are demcal's law term by term: F = -drag_scale f^3 3 pi mu d_g v
 //    (1 + 0.15 Re^0.687) (0.44 Re / 24 above Re = 1000), d_g = 2 r / f,
@@ -105,6 +111,10 @@ struct MappingOptions {
   // Map demcal's "cdt" onto LAMMPS's "rolling sds" (same limiting torque,
   // an elastic phase below it) instead of refusing.
   bool allow_rolling_substitute = false;
+  // With adhesion "jkr": run the walls dry (hertz) instead of refusing a
+  // particle_wall surface energy (LAMMPS 29Sep2021's wall JKR is unusable, see
+  // the header); the substitution is listed in the approximations.
+  bool allow_dry_walls = false;
 };
 
 // One engine parameter and where it came from.
