@@ -103,6 +103,15 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   // One fix per block: a union region as one wall gave NaNs in this LAMMPS version.
   for (const auto& b : l.blocks) block(b);
   for (const auto& b : l.closing_blocks) block(b);
+  // Hopper plates: a prism tilted along x (xz), across the box along y.
+  for (const auto& sp : l.slanted_plates) {
+    const std::string y = l.periodic[1] ? "INF INF" : n(l.box.lower_m.y) + " " + n(l.box.upper_m.y);
+    s << "region          slp_" << sp.name << " prism " << n(sp.x_lower_m) << " " << n(sp.x_upper_m)
+      << " " << y << " " << n(sp.z_lower_m) << " " << n(sp.z_upper_m) << " 0 " << n(sp.tilt_x_m)
+      << " 0 side out units box\n"
+      << "fix             wall_" << sp.name << " all wall/gran/region granular " << pw
+      << " region slp_" << sp.name << "\n";
+  }
   // Funnels and cylinders: open-ended shells, grains inside; discs: solid, grains outside.
   for (const auto& sh : l.shells) {
     s << "region          shl_" << sh.name << " ";

@@ -261,5 +261,39 @@ TEST(EngineLammpsEffects, CohesionSteepensAPouredHeap) {
   EXPECT_GT(wet, dry + 5.0);
 }
 
+TEST(EngineLammpsEffects, SandglassSliceHopperEmptiesTheChamber) {
+  SKIP_WITHOUT_LAMMPS();
+  // tests/engine/test_engine_lammps.cpp's slice, with the base study's hopper
+  // (30 deg from the vertical) instead of the flat bottom: the grains slide
+  // down the plates to the slot; no dead zones stay beside it.
+  dem::SandglassOptions s;
+  s.bottom = "conical";
+  s.hopper_half_angle_deg = 30.0;
+  s.reduction.slice = true;
+  s.upper_diameter_m = 0.024;
+  s.orifice_diameter_m = 0.008;
+  s.upper_height_m = 0.05;
+  s.lower_diameter_m = 0.06;
+  s.drop_height_m = 0.03;
+  s.fill_mass_kg = 0.01;
+  s.fill_lattice_spacing_diameters = 1.25;
+  s.form_pile = false;
+  dem::RunProtocol protocol;
+  protocol.max_flow_s = 2.0;
+  const DeckResult deck = write_lammps_deck(s, testing::peer_material(), protocol);
+  ASSERT_TRUE(deck.ok()) << deck.refusal;
+  const EngineRunResult r = run(*deck.deck, "lammps-hopper");
+  const dem::ApparatusResult res = measure_engine_run(*deck.deck, r.directory);
+  const double fraction = res.details["discharge"]["discharged_fraction"].get<double>();
+  std::cout << "LAMMPS sandglass slice with hopper: " << res.details["particles"]
+            << " particles, discharge time " << res.observables["discharge_time_s"]
+            << " s, flow rate " << res.observables["mass_flow_rate_kg_s"] << " kg/s, "
+            << 100.0 * fraction << " % discharged ("
+            << res.details["discharge"]["status"].get<std::string>() << "), wall time "
+            << r.wall_time_s << " s\n";
+  EXPECT_GT(fraction, 0.98);
+  ASSERT_FALSE(res.observables["mass_flow_rate_kg_s"].is_null());
+}
+
 }  // namespace
 }  // namespace demcal::engines

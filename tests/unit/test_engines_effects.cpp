@@ -202,6 +202,34 @@ TEST(EnginesEffects, PolydisperseLatticeFillGolden) {
   EXPECT_NE(mono.deck->script.find("create_box      1 box"), std::string::npos);
 }
 
+TEST(EnginesEffects, SandglassSliceHopperGolden) {
+  // The concealed base study's sandglass has a hopper (bottom = "conical", 30 deg).
+  auto o = small_slice();
+  o.bottom = "conical";
+  o.hopper_half_angle_deg = 30.0;
+  const auto r = write_lammps_deck(o, peer_material(), dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  expect_golden(r.deck->script, "engines/lammps_sandglass_slice_hopper.in");
+  // dem::Sandglass's hopper: from the orifice's edge (r0 = 4 mm) up to the
+  // chamber wall (ru = 12 mm) over (ru - r0) / tan 30 deg.
+  const double h = 0.008 / std::tan(30.0 * std::numbers::pi / 180.0);
+  const auto& plates = r.deck->record["layout"]["slanted_plates"];
+  ASSERT_EQ(plates.size(), 2u);
+  EXPECT_DOUBLE_EQ(plates[1]["x_lower_m"].get<double>(), 0.004);
+  EXPECT_DOUBLE_EQ(plates[1]["tilt_x_m"].get<double>(), 0.008);
+  EXPECT_NEAR(plates[1]["z_upper_m"].get<double>() - plates[1]["z_lower_m"].get<double>(), h,
+              1e-15);
+  EXPECT_NE(r.deck->script.find("prism -0.006 -0.004 INF INF 0.03 "), std::string::npos);
+  // The chamber walls start where the hopper ends, the fill above both.
+  EXPECT_NEAR(r.deck->record["layout"]["blocks"][0]["lower_m"][2].get<double>(), 0.03 + h, 1e-15);
+  EXPECT_GE(r.deck->record["layout"]["lattice_fill"]["region"]["lower_m"][2].get<double>(),
+            0.03 + h);
+  // A flat bottom writes no plates and no record entry (goldens of before).
+  EXPECT_FALSE(write_lammps_deck(small_slice(), peer_material(), dem::RunProtocol{})
+                   .deck->record["layout"]
+                   .contains("slanted_plates"));
+}
+
 TEST(EnginesEffects, ConicalPilePolydisperseFillIsWritten) {
   dem::ConicalPileOptions o;
   o.funnel_top_diameter_m = 0.02;
