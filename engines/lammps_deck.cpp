@@ -228,6 +228,9 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     const long stall = steps_for(l.protocol.stall_time_s, l.time_step_s);
     const long chunks =
         std::max(1L, static_cast<long>(std::ceil(l.protocol.max_flow_s / l.protocol.stall_time_s)));
+    s << "\n# the settled fill, for demcal's bulk density\n"
+      << "write_dump      all custom " << o.fill_dump_name
+      << " id type x y z radius modify sort id\n";
     s << "\n# --- open the orifice: the shut plate goes, the plate with the opening comes\n";
     for (const auto& b : l.closing_blocks) s << "unfix           wall_" << b.name << "\n";
     for (const auto& b : l.opened_blocks) block(b);
@@ -269,7 +272,10 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   deck.script_name = o.script_name;
   deck.script = s.str();
   deck.final_dump_name = o.final_dump_name;
-  if (l.discharge) deck.mass_series_name = o.mass_series_name;
+  if (l.discharge) {
+    deck.mass_series_name = o.mass_series_name;
+    deck.fill_dump_name = o.fill_dump_name;
+  }
   deck.record = {{"engine", "lammps"},
                  {"mapping", map.to_json()},
                  {"layout", l.to_json()},
