@@ -2,6 +2,7 @@
 // adhesion (cohesion), air drag, a polydisperse lattice fill (size spread).
 // Golden decks in tests/data/engines/ (DEMCAL_UPDATE_GOLDEN=1 rewrites them),
 // the mapped numbers against demcal's own laws, and what LIGGGHTS still refuses.
+#include "engines/engine_measure.hpp"
 #include "engines/lammps_deck.hpp"
 #include "engines/liggghts_deck.hpp"
 
@@ -228,6 +229,48 @@ TEST(EnginesEffects, SandglassSliceHopperGolden) {
   EXPECT_FALSE(write_lammps_deck(small_slice(), peer_material(), dem::RunProtocol{})
                    .deck->record["layout"]
                    .contains("slanted_plates"));
+}
+
+TEST(EnginesEffects, SandglassBulkDensityFromTheSettledFill) {
+  // A block of 20 x 10 grains of 1 mm filling a flat-bottomed chamber 20 mm
+  // wide to 10 mm, in a 4 mm slice: dem::Sandglass's rule gives mass / volume.
+  ParticleDump fill;
+  for (int i = 0; i < 20; ++i)
+    for (int k = 0; k < 10; ++k) {
+      fill.id.push_back(static_cast<std::int64_t>(fill.id.size()) + 1);
+      fill.type.push_back(1);
+      fill.position_m.push_back({-0.0095 + 0.001 * i, 0.002, 0.0305 + 0.001 * k});
+      fill.radius_m.push_back(0.5e-3);
+      fill.velocity_m_s.push_back({});
+    }
+  MassSeries m;
+  for (int i = 0; i <= 40; ++i) {
+    const double t = 0.005 * i;
+    const double out = std::min(1e-3, std::max(0.0, 0.01 * (t - 0.01)));
+    m.time_s.push_back(t);
+    m.discharged_kg.push_back(out);
+    m.above_orifice_kg.push_back(1e-3 - out);
+  }
+  nlohmann::json plan = {{"kind", "sandglass_slice"}, {"apparatus", "sandglass"},
+                         {"orifice_plane_z_m", 0.03}, {"orifice_width_m", 0.008},
+                         {"form_pile", false},        {"stall_time_s", 0.05},
+                         {"density_kg_m3", 2650.0}};
+  plan["bulk_density"] = {{"upper_radius_m", 0.01},     {"orifice_radius_m", 0.004},
+                          {"orifice_plane_z_m", 0.03},  {"hopper_height_m", 0.0},
+                          {"slice_thickness_m", 0.004}, {"mean_diameter_m", 1e-3}};
+  const double mass = 200 * 2650.0 * std::numbers::pi / 6.0 * 1e-9;
+  const auto flat = measure_engine_output(plan, ParticleDump{}, &m, &fill);
+  EXPECT_NEAR(flat.observables["bulk_density_kg_m3"].get<double>(), mass / (0.02 * 0.01 * 0.004),
+              1e-9);
+  // With a hopper 4 mm high below the same surface: the frustum (r0 + ru) h d
+  // replaces 2 ru h d.
+  plan["bulk_density"]["hopper_height_m"] = 0.004;
+  const auto hopper = measure_engine_output(plan, ParticleDump{}, &m, &fill);
+  const double volume = (0.004 + 0.01) * 0.004 * 0.004 + 0.02 * 0.006 * 0.004;
+  EXPECT_NEAR(hopper.observables["bulk_density_kg_m3"].get<double>(), mass / volume, 1e-9);
+  // No settled fill given: no bulk density (LIGGGHTS decks write none).
+  EXPECT_FALSE(measure_engine_output(plan, ParticleDump{}, &m).observables.contains(
+      "bulk_density_kg_m3"));
 }
 
 TEST(EnginesEffects, ConicalPilePolydisperseFillIsWritten) {
