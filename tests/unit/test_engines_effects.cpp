@@ -273,6 +273,56 @@ TEST(EnginesEffects, SandglassBulkDensityFromTheSettledFill) {
       "bulk_density_kg_m3"));
 }
 
+TEST(EnginesEffects, ConcealedBaseStudysSandglassIsWrittenForEveryTruth) {
+  // tests/concealed/base_study.toml.in's sandglass and material (rolling epsd:
+  // LAMMPS refuses cdt without the substitute), with each truth's effect.
+  dem::SandglassOptions s;
+  s.upper_diameter_m = 0.08;
+  s.upper_height_m = 0.15;
+  s.bottom = "conical";
+  s.hopper_half_angle_deg = 30.0;
+  s.orifice_diameter_m = 0.022;
+  s.fill_mass_kg = 0.15;
+  s.lower_diameter_m = 0.15;
+  s.drop_height_m = 0.10;
+  s.reduction.slice = true;
+  s.reduction.slice_thickness_diameters = 4.2;
+  s.reduction.coarse_graining_factor = 14.0;
+  s.reduction.shear_modulus_pa = 1.0e7;
+  auto base = [] {
+    dem::GranularMaterial m;
+    m.particle = {"fine-quartz-sand", 2650.0, 0.0, 3.0e10, 0.25};
+    m.wall = {"glass", 2500.0, 6.3e10, 0.0, 0.23};
+    m.particle_particle.restitution = 0.6;
+    m.particle_particle.sliding_friction = 0.5;
+    m.particle_particle.rolling_friction = 0.2;
+    m.particle_wall = m.particle_particle;
+    m.contact.rolling = "epsd";
+    m.sizes = dem::make_uniform_about_mean(2.0e-4, 0.25);
+    return m;
+  };
+  dem::RunProtocol p;
+  p.rest_speed_m_s = 5.0e-3;
+  auto cohesion = base();
+  cohesion.contact.adhesion = "jkr";
+  cohesion.particle_particle.surface_energy_j_m2 = 4e-4;
+  auto wall_friction = base();
+  wall_friction.particle_wall.sliding_friction = 0.15;
+  auto drag = base();
+  drag.air_drag = dem::AirProperties{};
+  auto spread = base();
+  spread.sizes = dem::make_uniform_about_mean(2.0e-4, 0.55);
+  for (const auto& m : {base(), cohesion, wall_friction, drag, spread}) {
+    const auto r = write_lammps_deck(s, m, p);
+    ASSERT_TRUE(r.ok()) << r.refusal;
+    EXPECT_EQ(r.deck->record["layout"]["slanted_plates"].size(), 2u);
+  }
+  // The cohesion truth as it stands (wall surface energy too) is refused by name.
+  cohesion.particle_wall.surface_energy_j_m2 = 4e-4;
+  EXPECT_NE(write_lammps_deck(s, cohesion, p).refusal.find("particle_wall.surface_energy_j_m2"),
+            std::string::npos);
+}
+
 TEST(EnginesEffects, ConicalPilePolydisperseFillIsWritten) {
   dem::ConicalPileOptions o;
   o.funnel_top_diameter_m = 0.02;
