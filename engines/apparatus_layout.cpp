@@ -341,9 +341,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                    {"density_kg_m3", l.density_kg_m3}};
   // dem::Sandglass's bulk density: the chamber's numbers for its rule
   // (engine_measure.cpp), measured on a dump of the settled fill.
-  l.measurement["bulk_density"] = {{"upper_radius_m", ru},        {"orifice_radius_m", r0},
-                                   {"orifice_plane_z_m", zo},     {"hopper_height_m", cone_h},
-                                   {"slice_thickness_m", depth},  {"mean_diameter_m", d}};
+  l.measurement["bulk_density"] = {{"upper_radius_m", ru},       {"orifice_radius_m", r0},
+                                   {"orifice_plane_z_m", zo},    {"hopper_height_m", cone_h},
+                                   {"slice_thickness_m", depth}, {"mean_diameter_m", d}};
   return {std::move(l), ""};
 }
 

@@ -105,13 +105,13 @@ struct ApparatusLayout {
   BoxRegion box;
   std::array<bool, 3> periodic{false, false, false};
   std::vector<AxisPlane> planes;
-  std::vector<SolidBlock> blocks;          // for the whole run
-  std::vector<SolidBlock> closing_blocks;  // the shut orifice: removed at opening
-  std::vector<SolidBlock> opened_blocks;   // the plate with its opening: added at opening
+  std::vector<SolidBlock> blocks;            // for the whole run
+  std::vector<SolidBlock> closing_blocks;    // the shut orifice: removed at opening
+  std::vector<SolidBlock> opened_blocks;     // the plate with its opening: added at opening
   std::vector<SlantedPlate> slanted_plates;  // hopper plates, for the whole run
-  std::vector<AxialShell> shells;          // funnels and cylinders, for the whole run
-  std::vector<AxialDisc> discs;            // for the whole run
-  std::vector<AxialDisc> closing_discs;    // the shut outlet: removed at opening
+  std::vector<AxialShell> shells;            // funnels and cylinders, for the whole run
+  std::vector<AxialDisc> discs;              // for the whole run
+  std::vector<AxialDisc> closing_discs;      // the shut outlet: removed at opening
   std::optional<PourInlet> pour;
   std::optional<LatticeFill> lattice;
   std::size_t particles = 0;

@@ -197,7 +197,8 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
       // run's seed (exact counts); the types go back to 1 once the diameters are set.
       const std::size_t k = l.size_classes.size();
       s << "# polydisperse fill: " << k
-        << " equal-number size classes (each its class's mean d^3), each its number fraction of the "
+        << " equal-number size classes (each its class's mean d^3), each its number fraction of "
+           "the "
            "sites at random\n";
       double tail = 1.0;  // the number fraction still of type 1
       for (std::size_t c = k - 1; c >= 1; --c) {

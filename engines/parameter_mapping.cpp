@@ -47,7 +47,8 @@ std::string common_refusal(const std::string& engine, const dem::GranularMateria
   if (!m.sizes) return engine + ": the material has no size distribution";
   // The decks give every wall one material (atom type 2, one wall/gran law).
   if (!m.particle_wall_by_group.empty())
-    return engine + " deck cannot give the wall group \"" + m.particle_wall_by_group.begin()->first +
+    return engine + " deck cannot give the wall group \"" +
+           m.particle_wall_by_group.begin()->first +
            "\" its own interaction ([interaction.particle_wall." +
            m.particle_wall_by_group.begin()->first +
            "]): demcal's decks give every wall the one particle_wall law";
@@ -166,12 +167,13 @@ std::string LammpsMapping::air_drag_commands() const {
   s << "# air drag (dem/air_drag.hpp): Schiller-Naumann on the grain of diameter 2 r / f\n"
     << "compute         drag_radius all property/atom radius\n"
     << "variable        drag_speed atom sqrt(vx*vx+vy*vy+vz*vz)\n"
-    << "variable        drag_re atom " << num(a.density_kg_m3 * 2.0 / (f * a.dynamic_viscosity_pa_s))
+    << "variable        drag_re atom "
+    << num(a.density_kg_m3 * 2.0 / (f * a.dynamic_viscosity_pa_s))
     << "*c_drag_radius*v_drag_speed\n"
     << "variable        drag_k atom (v_drag_re<1000)*(1+0.15*v_drag_re^0.687)+(v_drag_re>=1000)*"
     << num(0.44 / 24.0) << "*v_drag_re\n"
-    << "variable        drag_c atom " << num(-a.drag_scale * f * f * 6.0 * std::numbers::pi *
-                                              a.dynamic_viscosity_pa_s)
+    << "variable        drag_c atom "
+    << num(-a.drag_scale * f * f * 6.0 * std::numbers::pi * a.dynamic_viscosity_pa_s)
     << "*c_drag_radius*v_drag_k\n"
     << "variable        drag_fx atom v_drag_c*vx\n"
     << "variable        drag_fy atom v_drag_c*vy\n"
@@ -181,14 +183,15 @@ std::string LammpsMapping::air_drag_commands() const {
 }
 
 nlohmann::json LammpsMapping::to_json() const {
-  nlohmann::json j = {{"engine", "lammps"},
-                      {"engine_version_mapped", "LAMMPS 29Sep2021 (Debian 12), pair_style granular"},
-                      {"representative_diameter_m", representative_diameter_m},
-                      {"density_kg_m3", density_kg_m3},
-                      {"pair_coeff", particle_particle.granular_words()},
-                      {"wall_coeff", particle_wall.granular_words()},
-                      {"parameters", parameters_json(parameters)},
-                      {"approximations", approximations}};
+  nlohmann::json j = {
+      {"engine", "lammps"},
+      {"engine_version_mapped", "LAMMPS 29Sep2021 (Debian 12), pair_style granular"},
+      {"representative_diameter_m", representative_diameter_m},
+      {"density_kg_m3", density_kg_m3},
+      {"pair_coeff", particle_particle.granular_words()},
+      {"wall_coeff", particle_wall.granular_words()},
+      {"parameters", parameters_json(parameters)},
+      {"approximations", approximations}};
   // Absent without drag: the records of dry, still-air decks stay as they were.
   if (air_drag)
     j["air_drag"] = {{"density_kg_m3", air_drag->density_kg_m3},
@@ -275,7 +278,8 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     if (m.contact.adhesion == "jkr" && wall && p.surface_energy_j_m2 > 0.0 &&
         !options.allow_dry_walls) {
       result.refusal =
-          "LAMMPS cannot give the walls JKR adhesion (interaction.particle_wall.surface_energy_j_m2 "
+          "LAMMPS cannot give the walls JKR adhesion "
+          "(interaction.particle_wall.surface_energy_j_m2 "
           "= " +
           num(p.surface_energy_j_m2) +
           "): fix wall/gran granular jkr in LAMMPS 29Sep2021 gives NaN forces when a grain leaves "
@@ -291,9 +295,9 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
           p.surface_energy_j_m2, reduction.coarse_graining_factor);
       map.parameters.push_back({pair, "jkr E", 1.5 * l.normal_stiffness_pa,
                                 "2 E* with Poisson ratio 0 (LAMMPS mixes E / (2 (1 - nu^2)))"});
-      map.parameters.push_back({pair, "jkr gamma", l.surface_energy_j_m2,
-                                "demcal surface_energy_j_m2 x f^2, f = " +
-                                    num(reduction.coarse_graining_factor)});
+      map.parameters.push_back(
+          {pair, "jkr gamma", l.surface_energy_j_m2,
+           "demcal surface_energy_j_m2 x f^2, f = " + num(reduction.coarse_graining_factor)});
     }
     if (m.contact.rolling != "none" && c.rolling_friction > 0.0) {
       l.rolling = true;
@@ -344,14 +348,15 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
   if (m.air_drag) {
     map.air_drag = m.air_drag;
     map.coarse_graining_factor = reduction.coarse_graining_factor;
-    map.parameters.push_back({"particle", "air drag 3 pi mu_air", 3.0 * std::numbers::pi *
-                                                                    m.air_drag->dynamic_viscosity_pa_s,
+    map.parameters.push_back({"particle", "air drag 3 pi mu_air",
+                              3.0 * std::numbers::pi * m.air_drag->dynamic_viscosity_pa_s,
                               "demcal air.dynamic_viscosity_pa_s (Stokes prefactor)"});
     map.parameters.push_back({"particle", "air drag rho_air", m.air_drag->density_kg_m3,
                               "demcal air.density_kg_m3 (Reynolds number)"});
-    map.parameters.push_back({"particle", "air drag scale", m.air_drag->drag_scale *
-                                                                std::pow(reduction.coarse_graining_factor, 3),
-                              "demcal air.drag_scale x f^3 (grain diameter 2 r / f)"});
+    map.parameters.push_back(
+        {"particle", "air drag scale",
+         m.air_drag->drag_scale * std::pow(reduction.coarse_graining_factor, 3),
+         "demcal air.drag_scale x f^3 (grain diameter 2 r / f)"});
     map.approximations.push_back(
         "air drag evaluated by fix addforce with LAMMPS's half-step velocity (demcal: its "
         "integrator's velocity at force time): equal to O(dt)");

@@ -33,9 +33,9 @@ std::string lammps_command() {
 
 std::string first_word(const std::string& s) { return s.substr(0, s.find(' ')); }
 
-#define SKIP_WITHOUT_LAMMPS()                                                                   \
-  if (!executable_available(first_word(lammps_command())))                                      \
-  GTEST_SKIP() << "LAMMPS not installed: \"" << first_word(lammps_command())                    \
+#define SKIP_WITHOUT_LAMMPS()                                                \
+  if (!executable_available(first_word(lammps_command())))                   \
+  GTEST_SKIP() << "LAMMPS not installed: \"" << first_word(lammps_command()) \
                << "\" is not on PATH (apt-get install lammps, or set DEMCAL_LAMMPS)"
 
 EngineRunResult run(const Deck& deck, const std::string& name) {
@@ -48,8 +48,8 @@ EngineRunResult run(const Deck& deck, const std::string& name) {
 // what a run looks like when it starts.
 Deck cut_after_fill(Deck deck) {
   const auto at = deck.script.find("\n# --- fill:");
-  deck.script = deck.script.substr(0, at) + "\nwrite_dump      all custom " +
-                deck.final_dump_name + " id type x y z radius vx vy vz modify sort id\n";
+  deck.script = deck.script.substr(0, at) + "\nwrite_dump      all custom " + deck.final_dump_name +
+                " id type x y z radius vx vy vz modify sort id\n";
   return deck;
 }
 
@@ -123,10 +123,10 @@ TEST(EngineLammpsEffects, PolydisperseFillHasTheAskedSizes) {
   // lose the within-class spread, (h/8)^2/3 of h^2/3: 0.8 % of the sd.
   const double sd_asked = half * mean / std::sqrt(3.0);
   std::cout << "LAMMPS polydisperse fill: " << dump.size() << " grains, mean diameter "
-            << mean_d * 1e3 << " mm (asked " << mean * 1e3 << "), sd " << sd * 1e3
-            << " mm (asked " << sd_asked * 1e3 << ", relative half-width "
-            << std::sqrt(3.0) * sd / mean_d << " vs " << half << "), range " << lo * 1e3 << " - "
-            << hi * 1e3 << " mm, wall time " << r.wall_time_s << " s\n";
+            << mean_d * 1e3 << " mm (asked " << mean * 1e3 << "), sd " << sd * 1e3 << " mm (asked "
+            << sd_asked * 1e3 << ", relative half-width " << std::sqrt(3.0) * sd / mean_d << " vs "
+            << half << "), range " << lo * 1e3 << " - " << hi * 1e3 << " mm, wall time "
+            << r.wall_time_s << " s\n";
   EXPECT_NEAR(mean_d, mean, 0.01 * mean);
   EXPECT_NEAR(sd, sd_asked, 0.03 * sd_asked);
   EXPECT_GE(lo, mean * (1.0 - half));

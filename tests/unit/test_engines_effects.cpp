@@ -101,9 +101,9 @@ TEST(EnginesEffects, JkrMapsOntoLammpsGranularJkrWithDemcalsStiffnessAndPullOff)
   const double delta = ac * ac / reff;
   const dem::JkrContact c = dem::jkr::contact(e_star, gamma, reff, delta);
   const double a = c.contact_radius_m;
-  const double lammps_force = 4.0 / 3.0 * e_star * a * a * a / reff -
-                              2.0 * std::numbers::pi * a * a *
-                                  std::sqrt(4.0 * gamma * e_star / (std::numbers::pi * a));
+  const double lammps_force =
+      4.0 / 3.0 * e_star * a * a * a / reff -
+      2.0 * std::numbers::pi * a * a * std::sqrt(4.0 * gamma * e_star / (std::numbers::pi * a));
   EXPECT_NEAR(lammps_force, c.force_n, 1e-9 * std::abs(c.force_n));
   // The statement of what differs goes into the record.
   bool stated = false, dry = false;
@@ -114,8 +114,10 @@ TEST(EnginesEffects, JkrMapsOntoLammpsGranularJkrWithDemcalsStiffnessAndPullOff)
   EXPECT_TRUE(stated);
   EXPECT_TRUE(dry);
   // Dry materials keep the hertz words, unchanged.
-  EXPECT_EQ(map_to_lammps(peer_material(), r).value().particle_particle.granular_words().rfind(
-                "hertz ", 0),
+  EXPECT_EQ(map_to_lammps(peer_material(), r)
+                .value()
+                .particle_particle.granular_words()
+                .rfind("hertz ", 0),
             0u);
 }
 
@@ -167,9 +169,8 @@ TEST(EnginesEffects, AirDragIsDemcalsSchillerNaumannAsAtomStyleVariables) {
   // Without drag the record has no such entry (records of earlier decks unchanged).
   auto still = m;
   still.air_drag.reset();
-  EXPECT_FALSE(write_lammps_deck(o, still, dem::RunProtocol{})
-                   .deck->record["mapping"]
-                   .contains("air_drag"));
+  EXPECT_FALSE(
+      write_lammps_deck(o, still, dem::RunProtocol{}).deck->record["mapping"].contains("air_drag"));
 }
 
 TEST(EnginesEffects, PolydisperseLatticeFillGolden) {
@@ -269,8 +270,8 @@ TEST(EnginesEffects, SandglassBulkDensityFromTheSettledFill) {
   const double volume = (0.004 + 0.01) * 0.004 * 0.004 + 0.02 * 0.006 * 0.004;
   EXPECT_NEAR(hopper.observables["bulk_density_kg_m3"].get<double>(), mass / volume, 1e-9);
   // No settled fill given: no bulk density (LIGGGHTS decks write none).
-  EXPECT_FALSE(measure_engine_output(plan, ParticleDump{}, &m).observables.contains(
-      "bulk_density_kg_m3"));
+  EXPECT_FALSE(
+      measure_engine_output(plan, ParticleDump{}, &m).observables.contains("bulk_density_kg_m3"));
 }
 
 TEST(EnginesEffects, ConcealedBaseStudysSandglassIsWrittenForEveryTruth) {
