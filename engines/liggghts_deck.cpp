@@ -91,8 +91,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     return {std::nullopt, "LIGGGHTS deck: cones, cylinders and discs (" + l.apparatus +
                               ") are not written as STL meshes yet"};
   if (!l.slanted_plates.empty())
-    return {std::nullopt, "LIGGGHTS deck: the hopper's slanted plates (" + l.apparatus +
-                              ") are not written as STL meshes yet; use bottom = \"flat\""};
+    return {std::nullopt, "LIGGGHTS deck: the sandglass's conical (hopper) bottom (" + l.apparatus +
+                              "): its slanted plates are not written as STL meshes yet; use "
+                              "bottom = \"flat\""};
   if (l.lattice && l.size_classes.size() > 1)
     return {std::nullopt, "LIGGGHTS deck: the lattice fill (" + l.apparatus +
                               ") is written for one diameter; a polydisperse lattice fill is "
