@@ -86,6 +86,17 @@ nlohmann::json ApparatusLayout::to_json() const {
   j["blocks"] = blocks_json(blocks);
   j["closing_blocks"] = blocks_json(closing_blocks);
   j["opened_blocks"] = blocks_json(opened_blocks);
+  // Absent when there are none: the records of flat-bottomed layouts stay as they were.
+  if (!slanted_plates.empty()) {
+    j["slanted_plates"] = nlohmann::json::array();
+    for (const auto& sp : slanted_plates)
+      j["slanted_plates"].push_back({{"name", sp.name},
+                                     {"x_lower_m", sp.x_lower_m},
+                                     {"x_upper_m", sp.x_upper_m},
+                                     {"z_lower_m", sp.z_lower_m},
+                                     {"z_upper_m", sp.z_upper_m},
+                                     {"tilt_x_m", sp.tilt_x_m}});
+  }
   if (pour)
     j["pour"] = {{"region", box_json(pour->region)},
                  {"speed_m_s", pour->speed_m_s},
@@ -249,15 +260,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
     return {std::nullopt,
             "sandglass: the full (3D) sandglass is not written as deck primitives yet (cylinder "
             "walls, a cone and a plate with a circular hole); use the slice (reduction.slice)"};
-  if (o.bottom != "flat")
-    return {std::nullopt,
-            "sandglass: the slice's conical (hopper) bottom is not written as deck primitives yet "
-            "(two slanted plates); use bottom = \"flat\""};
+  // A polydisperse fill: the lattice is spaced for the largest diameter, and the
+  // deck gives its sites the size classes' diameters at random (lammps_deck.cpp).
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
-  if (sizes->min_diameter_m() != sizes->max_diameter_m())
-    return {std::nullopt,
-            "sandglass: the lattice fill is written for one diameter; a polydisperse fill is not "
-            "written yet"};
   ApparatusLayout l;
   l.apparatus = "sandglass";
   l.variant = "slice";
@@ -266,7 +271,11 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   const double ru = 0.5 * o.upper_diameter_m, rl = 0.5 * o.lower_diameter_m;
   const double r0 = 0.5 * o.orifice_diameter_m;
   const double zo = o.drop_height_m;
-  const double top = zo + o.upper_height_m;
+  // The hopper's height, as dem::Sandglass takes it (0 for a flat bottom).
+  const double cone_h =
+      o.bottom == "conical" ? (ru - r0) / std::tan(o.hopper_half_angle_deg * kPi / 180.0) : 0.0;
+  const double zc = zo + cone_h;  // where the vertical chamber walls begin
+  const double top = zc + o.upper_height_m;
   const double depth = o.reduction.slice_thickness_diameters * d;
   const double fill_mass = o.fill_mass_kg * depth / o.upper_diameter_m;
   if (o.orifice_diameter_m < 3.0 * d) {
@@ -280,8 +289,12 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   l.box = {{-rl - margin, 0.0, -margin}, {rl + margin, depth, top + margin}};
   l.periodic = {false, true, false};
   l.planes = {{"floor", 2, 0.0, 1}, {"lower_left", 0, -rl, 1}, {"lower_right", 0, rl, -1}};
-  l.blocks = {{"upper_left", {-ru - wall, 0.0, zo}, {-ru, depth, top}},
-              {"upper_right", {ru, 0.0, zo}, {ru + wall, depth, top}}};
+  l.blocks = {{"upper_left", {-ru - wall, 0.0, zc}, {-ru, depth, top}},
+              {"upper_right", {ru, 0.0, zc}, {ru + wall, depth, top}}};
+  if (cone_h > 0.0)
+    // Inner faces from (-+r0, zo) up to (-+ru, zc), as make_slab_segment_wall's segments.
+    l.slanted_plates = {{"hopper_left", -r0 - wall, -r0, zo, zc, -(ru - r0)},
+                        {"hopper_right", r0, r0 + wall, zo, zc, ru - r0}};
   l.closing_blocks = {{"orifice_shut", {-ru - wall, 0.0, zo - wall}, {ru + wall, depth, zo}}};
   l.opened_blocks = {{"plate_left", {-ru - wall, 0.0, zo - wall}, {-r0, depth, zo}},
                      {"plate_right", {r0, 0.0, zo - wall}, {ru + wall, depth, zo}}};
@@ -292,7 +305,7 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   const double a = f.spacing_m;
   const double x0 = std::ceil((-ru + d_max) / a) * a, x1 = std::floor((ru - d_max) / a) * a;
   const double ny = std::floor(depth / a);
-  const double z0 = std::ceil((zo + d_max) / a) * a;
+  const double z0 = std::ceil((zc + d_max) / a) * a;
   const auto nx = static_cast<std::size_t>(std::llround((x1 - x0) / a));
   f.sites_per_layer = nx * static_cast<std::size_t>(ny);
   f.count = count_for_mass(fill_mass, material.particle.density_kg_m3, *sizes);
@@ -326,6 +339,11 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                    {"orifice_plane_z_m", zo},         {"orifice_width_m", o.orifice_diameter_m},
                    {"form_pile", o.form_pile},        {"stall_time_s", protocol.stall_time_s},
                    {"density_kg_m3", l.density_kg_m3}};
+  // dem::Sandglass's bulk density: the chamber's numbers for its rule
+  // (engine_measure.cpp), measured on a dump of the settled fill.
+  l.measurement["bulk_density"] = {{"upper_radius_m", ru},       {"orifice_radius_m", r0},
+                                   {"orifice_plane_z_m", zo},    {"hopper_height_m", cone_h},
+                                   {"slice_thickness_m", depth}, {"mean_diameter_m", d}};
   return {std::move(l), ""};
 }
 
@@ -341,10 +359,6 @@ LayoutResult layout_conical_pile(const dem::ConicalPileOptions& options,
             "conical_pile: the slice's V-shaped funnel (two slanted plates) is not written as deck "
             "primitives yet; use the full pile"};
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
-  if (sizes->min_diameter_m() != sizes->max_diameter_m())
-    return {std::nullopt,
-            "conical_pile: the lattice fill is written for one diameter; a polydisperse fill is "
-            "not written yet"};
   // The numbers dem::ConicalPile derives, the same way.
   const double d = dem::mean_diameter_m(*sizes);
   const double d_max = sizes->max_diameter_m();

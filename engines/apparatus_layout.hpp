@@ -42,6 +42,19 @@ struct SolidBlock {
   dem::Vec3 upper_m;
 };
 
+// A plate slanted in the x-z plane (a parallelepiped): its bottom face spans
+// x_lower_m..x_upper_m at z_lower_m, its top face the same shifted by tilt_x_m
+// at z_upper_m; it spans the box along y. Grains stay outside it. The slice
+// sandglass's hopper is two of them.
+struct SlantedPlate {
+  std::string name;
+  double x_lower_m = 0.0;
+  double x_upper_m = 0.0;
+  double z_lower_m = 0.0;
+  double z_upper_m = 0.0;
+  double tilt_x_m = 0.0;
+};
+
 // A surface of revolution about the vertical axis through x = y = 0: a cylinder
 // (equal radii) or a cone frustum, open at both ends; grains stay inside it.
 struct AxialShell {
@@ -92,12 +105,13 @@ struct ApparatusLayout {
   BoxRegion box;
   std::array<bool, 3> periodic{false, false, false};
   std::vector<AxisPlane> planes;
-  std::vector<SolidBlock> blocks;          // for the whole run
-  std::vector<SolidBlock> closing_blocks;  // the shut orifice: removed at opening
-  std::vector<SolidBlock> opened_blocks;   // the plate with its opening: added at opening
-  std::vector<AxialShell> shells;          // funnels and cylinders, for the whole run
-  std::vector<AxialDisc> discs;            // for the whole run
-  std::vector<AxialDisc> closing_discs;    // the shut outlet: removed at opening
+  std::vector<SolidBlock> blocks;            // for the whole run
+  std::vector<SolidBlock> closing_blocks;    // the shut orifice: removed at opening
+  std::vector<SolidBlock> opened_blocks;     // the plate with its opening: added at opening
+  std::vector<SlantedPlate> slanted_plates;  // hopper plates, for the whole run
+  std::vector<AxialShell> shells;            // funnels and cylinders, for the whole run
+  std::vector<AxialDisc> discs;              // for the whole run
+  std::vector<AxialDisc> closing_discs;      // the shut outlet: removed at opening
   std::optional<PourInlet> pour;
   std::optional<LatticeFill> lattice;
   std::size_t particles = 0;
@@ -136,9 +150,10 @@ LayoutResult layout_poured_slab_pile(const dem::PouredSlabPileOptions& options);
 LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions& options,
                                           const dem::GranularMaterial& material,
                                           const dem::RunProtocol& protocol);
-// The slice variant with a flat bottom; the full (3D) sandglass and the conical
-// hopper bottom are refused (cylinders, cones and a plate with a hole are not
-// written as primitives yet).
+// The slice variant, flat-bottomed or with its hopper (two slanted plates from
+// the orifice's edges up to the chamber walls, as dem::Sandglass builds them);
+// the full (3D) sandglass is refused (its plate with a hole is not written as a
+// primitive yet).
 LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                               const dem::GranularMaterial& material,
                               const dem::RunProtocol& protocol);

@@ -19,6 +19,7 @@ struct DeckOptions {
   std::string script_name = "in.demcal";
   std::string final_dump_name = "final.dump";        // particles at the end (custom dump)
   std::string mass_series_name = "mass_series.txt";  // discharge runs only
+  std::string fill_dump_name = "fill.dump";  // the settled fill before opening (LAMMPS discharges)
   // Verlet skin as a fraction of the largest diameter (demcal's default).
   double skin_fraction_of_diameter = 0.3;
   int thermo_every_steps = 2000;
@@ -32,6 +33,7 @@ struct Deck {
   std::vector<std::pair<std::string, std::string>> files;  // (name, content) beside the script
   std::string final_dump_name;
   std::string mass_series_name;  // empty when the run records no m(t)
+  std::string fill_dump_name;    // empty when the deck writes no dump of the settled fill
   nlohmann::json record;         // {"engine", "mapping", "layout", "measurement"}
 };
 

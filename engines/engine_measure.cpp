@@ -33,8 +33,50 @@ double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 
 
 }  // namespace
 
+namespace {
+
+// dem::Sandglass::fill_surface_height_m and chamber_volume_below_m3 (slice),
+// restated on a dump: the plan carries the chamber's numbers.
+double bulk_density_kg_m3(const nlohmann::json& b, const ParticleDump& fill, double density) {
+  const double ru = b.at("upper_radius_m").get<double>();
+  const double r0 = b.at("orifice_radius_m").get<double>();
+  const double zo = b.at("orifice_plane_z_m").get<double>();
+  const double cone = b.at("hopper_height_m").get<double>();
+  const double depth = b.at("slice_thickness_m").get<double>();
+  const double bin = 2.0 * b.at("mean_diameter_m").get<double>();
+  const int nb = std::max(1, static_cast<int>(1.6 * ru / bin));
+  std::vector<double> top(static_cast<std::size_t>(nb), -1.0);
+  double mass = 0.0;
+  for (std::size_t i = 0; i < fill.size(); ++i) {
+    const double r = fill.radius_m[i];
+    mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const dem::Vec3& x = fill.position_m[i];
+    if (x.z < zo) continue;
+    const int k = static_cast<int>(std::floor((x.x + 0.8 * ru) / bin));
+    if (k < 0 || k >= nb) continue;
+    top[static_cast<std::size_t>(k)] = std::max(top[static_cast<std::size_t>(k)], x.z + r);
+  }
+  double sum = 0.0;
+  int n = 0;
+  for (double t : top)
+    if (t > 0.0) {
+      sum += t;
+      ++n;
+    }
+  const double surface = n > 0 ? sum / n : zo;
+  const double z = surface - zo;
+  double volume = 0.0;
+  const double zc = std::min(z, cone);
+  if (zc > 0.0) volume += (2.0 * r0 + (ru - r0) * zc / cone) * zc * depth;
+  if (z > cone) volume += 2.0 * ru * (z - cone) * depth;
+  return volume > 0.0 ? mass / volume : std::nan("");
+}
+
+}  // namespace
+
 dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const ParticleDump& dump,
-                                           const MassSeries* series) {
+                                           const MassSeries* series,
+                                           const ParticleDump* settled_fill) {
   dem::ApparatusResult r;
   const std::string kind = plan.at("kind").get<std::string>();
   r.details["apparatus"] = plan.at("apparatus");
@@ -120,6 +162,11 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
       }
     }
     r.details["fill_mass_kg"] = fill;
+    if (settled_fill != nullptr && plan.contains("bulk_density")) {
+      const double rho = bulk_density_kg_m3(plan.at("bulk_density"), *settled_fill,
+                                            plan.at("density_kg_m3").get<double>());
+      if (std::isfinite(rho)) r.observables["bulk_density_kg_m3"] = rho;
+    }
     r.details["discharge"] = dem::to_json(flow);
     r.observables["discharge_time_s"] = std::isfinite(flow.discharge_time_s)
                                             ? nlohmann::json(flow.discharge_time_s)
@@ -148,6 +195,10 @@ dem::ApparatusResult measure_engine_run(const Deck& deck, const std::filesystem:
   if (deck.mass_series_name.empty())
     return measure_engine_output(deck.record.at("measurement"), dump, nullptr);
   const MassSeries series = read_mass_series(dir / deck.mass_series_name);
+  if (!deck.fill_dump_name.empty()) {
+    const ParticleDump fill = read_custom_dump(dir / deck.fill_dump_name);
+    return measure_engine_output(deck.record.at("measurement"), dump, &series, &fill);
+  }
   return measure_engine_output(deck.record.at("measurement"), dump, &series);
 }
 

@@ -60,6 +60,11 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   const std::string pw = map.particle_wall.granular_words();
   double d_max = 0.0;
   for (const auto& [d, p] : l.size_classes) d_max = std::max(d_max, d);
+  // A polydisperse lattice fill gives each size class its own atom type for the
+  // moment it takes to set the diameters (set type/ratio); a pour draws its
+  // diameters itself.
+  const bool class_types = l.lattice && l.size_classes.size() > 1;
+  const std::size_t box_types = class_types ? l.size_classes.size() : 1;
 
   std::ostringstream s;
   s << "# LAMMPS input written by demcal from its " << l.apparatus << " description (" << l.variant
@@ -76,7 +81,7 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "newton          off\n"
     << "comm_modify     vel yes\n"
     << "region          box block " << box_words(l.box) << " units box\n"
-    << "create_box      1 box\n"
+    << "create_box      " << box_types << " box\n"
     << "neighbor        " << n(o.skin_fraction_of_diameter * d_max) << " bin\n"
     << "neigh_modify    delay 0 every 1 check yes\n\n"
     << "# contact law (mapped from demcal's, see the header)\n"
@@ -98,6 +103,15 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   // One fix per block: a union region as one wall gave NaNs in this LAMMPS version.
   for (const auto& b : l.blocks) block(b);
   for (const auto& b : l.closing_blocks) block(b);
+  // Hopper plates: a prism tilted along x (xz), across the box along y.
+  for (const auto& sp : l.slanted_plates) {
+    const std::string y = l.periodic[1] ? "INF INF" : n(l.box.lower_m.y) + " " + n(l.box.upper_m.y);
+    s << "region          slp_" << sp.name << " prism " << n(sp.x_lower_m) << " " << n(sp.x_upper_m)
+      << " " << y << " " << n(sp.z_lower_m) << " " << n(sp.z_upper_m) << " 0 " << n(sp.tilt_x_m)
+      << " 0 side out units box\n"
+      << "fix             wall_" << sp.name << " all wall/gran/region granular " << pw
+      << " region slp_" << sp.name << "\n";
+  }
   // Funnels and cylinders: open-ended shells, grains inside; discs: solid, grains outside.
   for (const auto& sh : l.shells) {
     s << "region          shl_" << sh.name << " ";
@@ -120,7 +134,9 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
 
   s << "\nfix             gravity all gravity 9.81 vector 0 0 -1\n"
     << "fix             integrate all nve/sphere\n"
-    << "timestep        " << n(l.time_step_s) << "\n\n"
+    << "timestep        " << n(l.time_step_s) << "\n";
+  if (map.air_drag) s << "\n" << map.air_drag_commands();
+  s << "\n"
     << "# demcal's rest rule: rms translational speed\n"
     << "variable        speed2 atom vx*vx+vy*vy+vz*vz\n"
     << "compute         speed2_sum all reduce sum v_speed2\n"
@@ -173,9 +189,30 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
         << n(static_cast<double>(surplus) / static_cast<double>(f.sites_per_layer)) << " "
         << (l.seed % 900000000 + 2) << "\n";
     }
-    s << "set             type 1 diameter " << n(l.size_classes[0].first) << " density "
-      << n(l.density_kg_m3) << "\n"
-      << "displace_atoms  all random " << n(f.jitter_m) << " " << n(f.jitter_m) << " "
+    if (!class_types) {
+      s << "set             type 1 diameter " << n(l.size_classes[0].first) << " density "
+        << n(l.density_kg_m3) << "\n";
+    } else {
+      // Each class takes its share of the sites still of type 1, drawn with the
+      // run's seed (exact counts); the types go back to 1 once the diameters are set.
+      const std::size_t k = l.size_classes.size();
+      s << "# polydisperse fill: " << k
+        << " equal-number size classes (each its class's mean d^3), each its number fraction of "
+           "the "
+           "sites at random\n";
+      double tail = 1.0;  // the number fraction still of type 1
+      for (std::size_t c = k - 1; c >= 1; --c) {
+        // Type c + 1 takes class c's fraction of all, i.e. p_c / tail of type 1's rest.
+        s << "set             type 1 type/ratio " << c + 1 << " "
+          << n(l.size_classes[c].second / tail) << " " << (l.seed % 900000000 + 4 + c) << "\n";
+        tail -= l.size_classes[c].second;
+      }
+      for (std::size_t c = 0; c < k; ++c)
+        s << "set             type " << c + 1 << " diameter " << n(l.size_classes[c].first) << "\n";
+      s << "set             type 2*" << k << " type 1\n"
+        << "set             type 1 density " << n(l.density_kg_m3) << "\n";
+    }
+    s << "displace_atoms  all random " << n(f.jitter_m) << " " << n(f.jitter_m) << " "
       << n(f.jitter_m) << " " << (l.seed % 900000000 + 3) << " units box\n";
     phase_loop(s, "fill", "(step>0)*(v_rms_speed<" + n(l.protocol.rest_speed_m_s) + ")",
                l.protocol.max_settle_s, l);
@@ -192,6 +229,9 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     const long stall = steps_for(l.protocol.stall_time_s, l.time_step_s);
     const long chunks =
         std::max(1L, static_cast<long>(std::ceil(l.protocol.max_flow_s / l.protocol.stall_time_s)));
+    s << "\n# the settled fill, for demcal's bulk density\n"
+      << "write_dump      all custom " << o.fill_dump_name
+      << " id type x y z radius modify sort id\n";
     s << "\n# --- open the orifice: the shut plate goes, the plate with the opening comes\n";
     for (const auto& b : l.closing_blocks) s << "unfix           wall_" << b.name << "\n";
     for (const auto& b : l.opened_blocks) block(b);
@@ -233,7 +273,10 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
   deck.script_name = o.script_name;
   deck.script = s.str();
   deck.final_dump_name = o.final_dump_name;
-  if (l.discharge) deck.mass_series_name = o.mass_series_name;
+  if (l.discharge) {
+    deck.mass_series_name = o.mass_series_name;
+    deck.fill_dump_name = o.fill_dump_name;
+  }
   deck.record = {{"engine", "lammps"},
                  {"mapping", map.to_json()},
                  {"layout", l.to_json()},

@@ -90,6 +90,14 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   if (!l.shells.empty() || !l.discs.empty() || !l.closing_discs.empty())
     return {std::nullopt, "LIGGGHTS deck: cones, cylinders and discs (" + l.apparatus +
                               ") are not written as STL meshes yet"};
+  if (!l.slanted_plates.empty())
+    return {std::nullopt, "LIGGGHTS deck: the sandglass's conical (hopper) bottom (" + l.apparatus +
+                              "): its slanted plates are not written as STL meshes yet; use "
+                              "bottom = \"flat\""};
+  if (l.lattice && l.size_classes.size() > 1)
+    return {std::nullopt, "LIGGGHTS deck: the lattice fill (" + l.apparatus +
+                              ") is written for one diameter; a polydisperse lattice fill is "
+                              "written for LAMMPS only"};
   const std::string model = m.model_words();
   double d_max = 0.0;
   for (const auto& [d, p] : l.size_classes) d_max = std::max(d_max, d);

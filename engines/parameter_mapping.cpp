@@ -2,6 +2,7 @@
 
 #include "engines/deck.hpp"
 
+#include "dem/contact/jkr_adhesion.hpp"
 #include "dem/contact/pair_coefficients.hpp"
 
 #include <cmath>
@@ -23,25 +24,31 @@ struct Resolved {
   double mass_kg = 0.0;
 };
 
-// The refusals both engines share, then the pair coefficients as the engine
+// The refusals both engines share (LAMMPS maps JKR adhesion and air drag, see
+// the header; LIGGGHTS does not), then the pair coefficients as the engine
 // would resolve them (install_materials' reduction applied).
-std::string common_refusal(const std::string& engine, const dem::GranularMaterial& m) {
+std::string common_refusal(const std::string& engine, const dem::GranularMaterial& m,
+                           bool maps_jkr_and_drag) {
   if (m.contact.normal != "hertz")
     return engine + " cannot use demcal's normal part \"" + m.contact.normal + "\"";
-  if (m.contact.adhesion != "none")
+  if (m.contact.adhesion != "none" && !(maps_jkr_and_drag && m.contact.adhesion == "jkr"))
     return engine + " cannot reproduce demcal's adhesion \"" + m.contact.adhesion + "\" (" +
            (m.contact.adhesion == "jkr"
                 ? std::string("EDEM-form JKR with demcal's hysteresis and friction load")
                 : std::string("demcal's own adhesion part, with its rupture rule")) +
-           "); no mapping is stated";
-  if (m.particle_particle.surface_energy_j_m2 > 0.0 || m.particle_wall.surface_energy_j_m2 > 0.0)
+           "); no mapping is stated" +
+           (maps_jkr_and_drag ? std::string(" (LAMMPS maps adhesion = \"jkr\" only)")
+                              : std::string());
+  if (m.contact.adhesion == "none" &&
+      (m.particle_particle.surface_energy_j_m2 > 0.0 || m.particle_wall.surface_energy_j_m2 > 0.0))
     return engine + " cannot reproduce a surface energy without demcal's adhesion part";
-  if (m.air_drag)
+  if (m.air_drag && !maps_jkr_and_drag)
     return engine + " cannot reproduce demcal's air drag (dem/air_drag.hpp); run without it";
   if (!m.sizes) return engine + ": the material has no size distribution";
   // The decks give every wall one material (atom type 2, one wall/gran law).
   if (!m.particle_wall_by_group.empty())
-    return engine + " deck cannot give the wall group \"" + m.particle_wall_by_group.begin()->first +
+    return engine + " deck cannot give the wall group \"" +
+           m.particle_wall_by_group.begin()->first +
            "\" its own interaction ([interaction.particle_wall." +
            m.particle_wall_by_group.begin()->first +
            "]): demcal's decks give every wall the one particle_wall law";
@@ -124,10 +131,14 @@ double lammps_tsuji_input_for_alpha(double alpha) {
 }
 
 std::string LammpsPairCoefficients::granular_words() const {
-  std::string s = "hertz " + num(normal_stiffness_pa) + " " + num(tsuji_input) +
-                  " damping tsuji limit_damping tangential mindlin " +
-                  num(tangential_stiffness_pa) + " " + num(tangential_damping_factor) + " " +
-                  num(sliding_friction);
+  // jkr takes a Young's modulus and a Poisson ratio and mixes them as
+  // E / (2 (1 - nu^2)); with nu = 0, E = 2 E* = 1.5 k_n gives back E*.
+  std::string s = jkr ? "jkr " + num(1.5 * normal_stiffness_pa) + " " + num(tsuji_input) + " 0 " +
+                            num(surface_energy_j_m2) + " damping tsuji tangential mindlin "
+                      : "hertz " + num(normal_stiffness_pa) + " " + num(tsuji_input) +
+                            " damping tsuji limit_damping tangential mindlin ";
+  s += num(tangential_stiffness_pa) + " " + num(tangential_damping_factor) + " " +
+       num(sliding_friction);
   if (rolling)
     s += " rolling sds " + num(rolling_stiffness_n_m) + " " + num(rolling_damping_n_s_m) + " " +
          num(rolling_friction);
@@ -146,15 +157,49 @@ nlohmann::json parameters_json(const std::vector<MappedParameter>& ps) {
 
 }  // namespace
 
+std::string LammpsMapping::air_drag_commands() const {
+  if (!air_drag) return "";
+  const dem::AirProperties& a = *air_drag;
+  const double f = coarse_graining_factor;
+  // demcal's F = -drag_scale f^3 3 pi mu d_g v K(Re), d_g = 2 r / f:
+  // the prefactor per unit radius is drag_scale f^2 6 pi mu.
+  std::ostringstream s;
+  s << "# air drag (dem/air_drag.hpp): Schiller-Naumann on the grain of diameter 2 r / f\n"
+    << "compute         drag_radius all property/atom radius\n"
+    << "variable        drag_speed atom sqrt(vx*vx+vy*vy+vz*vz)\n"
+    << "variable        drag_re atom "
+    << num(a.density_kg_m3 * 2.0 / (f * a.dynamic_viscosity_pa_s))
+    << "*c_drag_radius*v_drag_speed\n"
+    << "variable        drag_k atom (v_drag_re<1000)*(1+0.15*v_drag_re^0.687)+(v_drag_re>=1000)*"
+    << num(0.44 / 24.0) << "*v_drag_re\n"
+    << "variable        drag_c atom "
+    << num(-a.drag_scale * f * f * 6.0 * std::numbers::pi * a.dynamic_viscosity_pa_s)
+    << "*c_drag_radius*v_drag_k\n"
+    << "variable        drag_fx atom v_drag_c*vx\n"
+    << "variable        drag_fy atom v_drag_c*vy\n"
+    << "variable        drag_fz atom v_drag_c*vz\n"
+    << "fix             air_drag all addforce v_drag_fx v_drag_fy v_drag_fz\n";
+  return s.str();
+}
+
 nlohmann::json LammpsMapping::to_json() const {
-  return {{"engine", "lammps"},
-          {"engine_version_mapped", "LAMMPS 29Sep2021 (Debian 12), pair_style granular"},
-          {"representative_diameter_m", representative_diameter_m},
-          {"density_kg_m3", density_kg_m3},
-          {"pair_coeff", particle_particle.granular_words()},
-          {"wall_coeff", particle_wall.granular_words()},
-          {"parameters", parameters_json(parameters)},
-          {"approximations", approximations}};
+  nlohmann::json j = {
+      {"engine", "lammps"},
+      {"engine_version_mapped", "LAMMPS 29Sep2021 (Debian 12), pair_style granular"},
+      {"representative_diameter_m", representative_diameter_m},
+      {"density_kg_m3", density_kg_m3},
+      {"pair_coeff", particle_particle.granular_words()},
+      {"wall_coeff", particle_wall.granular_words()},
+      {"parameters", parameters_json(parameters)},
+      {"approximations", approximations}};
+  // Absent without drag: the records of dry, still-air decks stay as they were.
+  if (air_drag)
+    j["air_drag"] = {{"density_kg_m3", air_drag->density_kg_m3},
+                     {"dynamic_viscosity_pa_s", air_drag->dynamic_viscosity_pa_s},
+                     {"drag_scale", air_drag->drag_scale},
+                     {"coarse_graining_factor", coarse_graining_factor},
+                     {"fix", "addforce with atom-style variables (air_drag_commands)"}};
+  return j;
 }
 
 std::string LiggghtsMapping::model_words() const {
@@ -178,7 +223,7 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
                                            const dem::ModelReduction& reduction,
                                            const MappingOptions& options) {
   MappingResult<LammpsMapping> result;
-  if (auto why = common_refusal("LAMMPS", m); !why.empty()) {
+  if (auto why = common_refusal("LAMMPS", m, true); !why.empty()) {
     result.refusal = why;
     return result;
   }
@@ -230,6 +275,30 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     map.parameters.push_back(
         {pair, "mindlin x_gamma_t", l.tangential_damping_factor, "2 sqrt(G*/E*)"});
     map.parameters.push_back({pair, "mindlin mu_s", l.sliding_friction, "demcal mu_s"});
+    if (m.contact.adhesion == "jkr" && wall && p.surface_energy_j_m2 > 0.0 &&
+        !options.allow_dry_walls) {
+      result.refusal =
+          "LAMMPS cannot give the walls JKR adhesion "
+          "(interaction.particle_wall.surface_energy_j_m2 "
+          "= " +
+          num(p.surface_energy_j_m2) +
+          "): fix wall/gran granular jkr in LAMMPS 29Sep2021 gives NaN forces when a grain leaves "
+          "a wall it touched. Set it to 0, or allow dry walls (MappingOptions::allow_dry_walls)";
+      return std::nullopt;
+    }
+    // Walls stay hertz (dry: refused above, or allowed); a pair with gamma = 0
+    // too (LAMMPS's JKR at zero surface energy divides 0 by 0 at a = 0).
+    if (m.contact.adhesion == "jkr" && !wall && p.surface_energy_j_m2 > 0.0) {
+      l.jkr = true;
+      // The part's own coarse-graining rule (gamma f^2), as install_materials applies it.
+      l.surface_energy_j_m2 = dem::JkrAdhesion::kParameters[0].coarse_grained(
+          p.surface_energy_j_m2, reduction.coarse_graining_factor);
+      map.parameters.push_back({pair, "jkr E", 1.5 * l.normal_stiffness_pa,
+                                "2 E* with Poisson ratio 0 (LAMMPS mixes E / (2 (1 - nu^2)))"});
+      map.parameters.push_back(
+          {pair, "jkr gamma", l.surface_energy_j_m2,
+           "demcal surface_energy_j_m2 x f^2, f = " + num(reduction.coarse_graining_factor)});
+    }
     if (m.contact.rolling != "none" && c.rolling_friction > 0.0) {
       l.rolling = true;
       const bool cdt = m.contact.rolling == "cdt";
@@ -265,6 +334,33 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
   map.particle_particle = *pp;
   map.particle_wall = *pw;
   map.parameters.push_back({"particle", "density", map.density_kg_m3, "demcal density"});
+  if (m.contact.adhesion == "jkr")
+    map.approximations.push_back(
+        "JKR: LAMMPS breaks a contact at the force-controlled pull-off point (overlap -1.44 "
+        "a_c^2/R*, force -3 pi gamma R*), demcal at the displacement-controlled one (-3 a_c^2/R*, "
+        "-5/9 of it); LAMMPS damps with the JKR contact radius and also while held apart, "
+        "without limit_damping; its friction load leaves the damping out");
+  if (m.contact.adhesion == "jkr" && m.particle_wall.surface_energy_j_m2 > 0.0)
+    map.approximations.push_back(
+        "walls dry (hertz): demcal's particle_wall surface energy " +
+        num(m.particle_wall.surface_energy_j_m2) +
+        " J/m^2 is left out (allow_dry_walls; LAMMPS 29Sep2021's wall JKR is unusable)");
+  if (m.air_drag) {
+    map.air_drag = m.air_drag;
+    map.coarse_graining_factor = reduction.coarse_graining_factor;
+    map.parameters.push_back({"particle", "air drag 3 pi mu_air",
+                              3.0 * std::numbers::pi * m.air_drag->dynamic_viscosity_pa_s,
+                              "demcal air.dynamic_viscosity_pa_s (Stokes prefactor)"});
+    map.parameters.push_back({"particle", "air drag rho_air", m.air_drag->density_kg_m3,
+                              "demcal air.density_kg_m3 (Reynolds number)"});
+    map.parameters.push_back(
+        {"particle", "air drag scale",
+         m.air_drag->drag_scale * std::pow(reduction.coarse_graining_factor, 3),
+         "demcal air.drag_scale x f^3 (grain diameter 2 r / f)"});
+    map.approximations.push_back(
+        "air drag evaluated by fix addforce with LAMMPS's half-step velocity (demcal: its "
+        "integrator's velocity at force time): equal to O(dt)");
+  }
   map.approximations.push_back(
       "tangential damping stays on while sliding in LAMMPS (demcal idles it at the Coulomb limit)");
   if (m.contact.rolling == "epsd")
@@ -288,7 +384,7 @@ MappingResult<LiggghtsMapping> map_to_liggghts(const dem::GranularMaterial& m,
                                                const dem::ModelReduction& reduction,
                                                const MappingOptions& /*options*/) {
   MappingResult<LiggghtsMapping> result;
-  if (auto why = common_refusal("LIGGGHTS", m); !why.empty()) {
+  if (auto why = common_refusal("LIGGGHTS", m, false); !why.empty()) {
     result.refusal = why;
     return result;
   }

@@ -39,6 +39,34 @@
 //    allow_rolling_substitute, then sds with the same limiting torque
 //    (mu_r_LAMMPS = mu_r l / R_eff: 2 mu_r between equal spheres, mu_r at a wall).
 //
+//  * adhesion "jkr" (demcal's EDEM-form JKR, dem/contact/jkr_adhesion.hpp):
+//    "jkr E_in tsuji_input 0 gamma damping tsuji" with E_in = 2 E*, Poisson
+//    ratio 0 (LAMMPS mixes E_in / (2 (1 - nu^2)) for pairs; with nu = 0 the wall
+//    fix's own mixing gives the same E*, so both get demcal's E*), gamma the
+//    surface energy scaled by f^2 for coarse graining as install_materials does.
+//    Equal: the JKR force-overlap curve F = 4 E* a^3 / (3 R*) - 4 sqrt(pi gamma
+//    E* a^3), the pull-off force 3 pi gamma R*, the Mindlin spring on the JKR
+//    contact radius, the sliding and rolling limits on F_n + 2 F_po (Thornton).
+//    Differ (stated in the mapping's approximations): LAMMPS breaks a contact at
+//    the force-controlled pull-off point (a = (9 pi gamma R*^2 / (4 E*))^(1/3),
+//    overlap -1.44 a_c^2/R*, force -F_po), demcal holds it to the
+//    displacement-controlled one (overlap -3 a_c^2/R*, force -5/9 F_po): LAMMPS's
+//    hysteresis loop is smaller; LAMMPS damps with sqrt(m* 4/3 E* a_JKR) and also
+//    while held apart, demcal with the Hertz a and only at positive overlap;
+//    LAMMPS's friction load leaves the normal damping out, demcal's has it; and
+//    LAMMPS refuses limit_damping with JKR (the damped force may pull).
+//    Walls: a particle_wall surface energy is refused. fix wall/gran granular jkr
+//    in 29Sep2021 gives NaN forces as soon as a grain leaves a wall it touched
+//    (measured: a 1 mm grain dropped 0.5 mm onto a jkr plane with gamma = 0.05
+//    J/m^2 bounces, and the run dies with "Non-numeric atom coords"; held on the
+//    wall from the start it rests at the JKR overlap). allow_dry_walls runs the
+//    walls as dry hertz instead (stated in the approximations).
+//  * air drag (dem/air_drag.hpp): "fix addforce" with atom-style variables that
+//    are demcal's law term by term: F = -drag_scale f^3 3 pi mu d_g v
+//    (1 + 0.15 Re^0.687) (0.44 Re / 24 above Re = 1000), d_g = 2 r / f,
+//    Re = rho_air |v| d_g / mu. LAMMPS evaluates it with the half-step velocity
+//    of velocity Verlet (demcal with its own integrator's): equal to O(dt).
+//
 // Both: wall groups with their own interaction ([interaction.particle_wall.<group>],
 // GranularMaterial::particle_wall_by_group) are refused: the decks give every
 // wall one material and one wall/gran law.
@@ -83,6 +111,10 @@ struct MappingOptions {
   // Map demcal's "cdt" onto LAMMPS's "rolling sds" (same limiting torque,
   // an elastic phase below it) instead of refusing.
   bool allow_rolling_substitute = false;
+  // With adhesion "jkr": run the walls dry (hertz) instead of refusing a
+  // particle_wall surface energy (LAMMPS 29Sep2021's wall JKR is unusable, see
+  // the header); the substitution is listed in the approximations.
+  bool allow_dry_walls = false;
 };
 
 // One engine parameter and where it came from.
@@ -104,8 +136,13 @@ struct LammpsPairCoefficients {
   double rolling_stiffness_n_m = 0.0;
   double rolling_damping_n_s_m = 0.0;
   double rolling_friction = 0.0;
+  // JKR adhesion: the normal model is "jkr" (surface energy as the engine takes
+  // it, after coarse graining), without limit_damping (LAMMPS refuses it there).
+  bool jkr = false;
+  double surface_energy_j_m2 = 0.0;
 
-  // "hertz ... damping tsuji limit_damping tangential mindlin ... [rolling sds ...]"
+  // "hertz ... damping tsuji limit_damping tangential mindlin ... [rolling sds ...]", or
+  // "jkr 2E* ... 0 gamma damping tsuji tangential mindlin ..." with adhesion.
   std::string granular_words() const;
 };
 
@@ -114,8 +151,15 @@ struct LammpsMapping {
   LammpsPairCoefficients particle_wall;
   double density_kg_m3 = 0.0;
   double representative_diameter_m = 0.0;
+  // Air drag, when demcal's material has it: the air and the coarse-graining
+  // factor the drag's grain diameter is taken with (dem/air_drag.hpp).
+  std::optional<dem::AirProperties> air_drag;
+  double coarse_graining_factor = 1.0;
   std::vector<MappedParameter> parameters;
   std::vector<std::string> approximations;
+  // The LAMMPS commands of the drag (variables and "fix air_drag all addforce"),
+  // empty without air drag.
+  std::string air_drag_commands() const;
   nlohmann::json to_json() const;
 };
 

@@ -77,13 +77,15 @@ TEST(EnginesMapping, LammpsRefusesWhatItCannotDo) {
   own.contact.cdt_own_angular_velocity = true;
   EXPECT_NE(map_to_lammps(own, {}, allow).refusal.find("own angular velocity"), std::string::npos);
 
-  auto jkr = peer_material();
-  jkr.contact.adhesion = "jkr";
-  EXPECT_NE(map_to_lammps(jkr, {}).refusal.find("adhesion \"jkr\""), std::string::npos);
-
-  auto drag = peer_material();
-  drag.air_drag = dem::AirProperties{};
-  EXPECT_NE(map_to_lammps(drag, {}).refusal.find("air drag"), std::string::npos);
+  // JKR and air drag map (test_engines_effects.cpp); the liquid bridge does not.
+  auto bridge = peer_material();
+  bridge.contact.adhesion = "liquid_bridge";
+  EXPECT_NE(map_to_lammps(bridge, {}).refusal.find("adhesion \"liquid_bridge\""),
+            std::string::npos);
+  auto dry = peer_material();
+  dry.particle_wall.surface_energy_j_m2 = 1e-3;
+  EXPECT_NE(map_to_lammps(dry, {}).refusal.find("without demcal's adhesion part"),
+            std::string::npos);
 
   // A restitution so low that Tsuji's polynomial cannot damp it.
   auto dead = peer_material();
