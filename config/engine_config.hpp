@@ -14,6 +14,16 @@
 //                                     #   "lmp". Not in the run key: where and on how many
 //                                     #   ranks a run went is recorded in the run file,
 //                                     #   the engine and its version are in the key.
+//   allow_rolling_substitute = true   # opt, lammps only (default false): run demcal's
+//                                     #   "cdt" rolling as LAMMPS's "rolling sds" (same
+//                                     #   limiting torque, an elastic phase below it)
+//                                     #   instead of refusing it
+//   allow_dry_walls = true            # opt, lammps only (default false): with adhesion
+//                                     #   "jkr", run the walls without adhesion instead of
+//                                     #   refusing a particle_wall surface energy (LAMMPS
+//                                     #   29Sep2021's wall JKR fails; engines/README.md)
+//   Both change the engine's run, so when true they are in its run key; the mapping
+//   record of every run lists each substitution made.
 
 #include "config/toml_reader.hpp"
 
@@ -30,6 +40,8 @@ const std::vector<std::string>& known_engine_kinds();
 struct EngineConfig {
   std::string kind = "demcal";
   std::string launch;  // empty for demcal
+  bool allow_rolling_substitute = false;  // engines::MappingOptions of the same names
+  bool allow_dry_walls = false;
   std::size_t line = 0;
   std::string file;  // the study file, for messages
 

@@ -67,8 +67,11 @@ engines::Deck engine_deck(const StudyConfig& study, const StudyApparatus& appara
   const std::string refused = engine->where() + ".kind: \"" + engine->kind +
                               "\" cannot run apparatus \"" + apparatus.name + "\": ";
   if (!layout.ok()) throw ConfigError(refused + layout.refusal);
+  engines::DeckOptions options;
+  options.mapping.allow_rolling_substitute = engine->allow_rolling_substitute;
+  options.mapping.allow_dry_walls = engine->allow_dry_walls;
   const engines::DeckResult deck = engine->kind == "lammps"
-                                       ? engines::write_lammps_deck(*layout.layout)
+                                       ? engines::write_lammps_deck(*layout.layout, options)
                                        : engines::write_liggghts_deck(*layout.layout);
   if (!deck.ok()) throw ConfigError(refused + deck.refusal);
   return *deck.deck;
@@ -125,7 +128,11 @@ std::optional<nlohmann::json> engine_run_key(const StudyConfig& study,
   if (version.rfind(expected, 0) != 0)
     throw ConfigError(engine->where() + ".launch: \"" + engine->launch + "\" does not start " +
                       engine->kind + ": its log begins \"" + version + "\"");
-  return nlohmann::json{{"kind", engine->kind}, {"version", version}};
+  nlohmann::json key{{"kind", engine->kind}, {"version", version}};
+  // A substitution changes the deck, so it is in the key; absent when off (keys unchanged).
+  if (engine->allow_rolling_substitute) key["allow_rolling_substitute"] = true;
+  if (engine->allow_dry_walls) key["allow_dry_walls"] = true;
+  return key;
 }
 
 EngineEvaluator::EngineEvaluator(engines::Deck deck, std::string launch,

@@ -172,5 +172,26 @@ TEST(EngineDispatch, WhatTheEngineCannotDoIsRefusedByNameBeforeAnythingRuns) {
   EXPECT_NE(cdt.find("cdt"), std::string::npos) << cdt;
 }
 
+TEST(EngineDispatch, AStatedSubstitutionLetsLammpsRunAndIsInTheKey) {
+  // LAMMPS with demcal's cdt rolling: refused above; with allow_rolling_substitute the deck is
+  // written with "rolling sds", and the run key says so (another deck, other runs).
+  const std::string launch = "env DEMCAL_FAKE_ENGINE_NAME=LAMMPS " + kFake;
+  const std::string base = "\n[engine]\nkind = \"lammps\"\nlaunch = \"" + launch + "\"\n";
+  const fs::path study = write_study("substitute", study_text(base + "allow_rolling_substitute = true\n"));
+  const DoePlan plan = plan_doe(study, {}, {}, 1);
+  ASSERT_FALSE(plan.runs.empty());
+  const nlohmann::json& engine = plan.runs[0].key.key.at("engine");
+  EXPECT_EQ(engine.at("kind"), "lammps");
+  EXPECT_EQ(engine.at("allow_rolling_substitute"), true);
+  EXPECT_FALSE(engine.contains("allow_dry_walls")) << "absent when off";
+  fs::remove_all(study.parent_path());
+  // Only LAMMPS's mapping makes these substitutions: on another kind the key is refused.
+  const std::string liggghts =
+      plan_error("dry-walls-liggghts", study_text(fake_engine() + "allow_dry_walls = true\n"));
+  EXPECT_NE(liggghts.find("engine.allow_dry_walls: is for kind = \"lammps\" only"),
+            std::string::npos)
+      << liggghts;
+}
+
 }  // namespace
 }  // namespace demcal::study
