@@ -2,7 +2,6 @@
 
 #include "calibrate/report/calibration_report.hpp"
 #include "cli/console.hpp"
-#include "cli/simulate_command.hpp"
 #include "config/calibration_config.hpp"
 #include "config/study_config.hpp"
 #include "dem/output/atomic_file.hpp"
@@ -50,19 +49,8 @@ void print_headline(std::ostream& log, const std::string& study, const calibrate
 
 CalibrateOutcome calibrate_study(const FitOptions& o, std::ostream& out, std::ostream& log) {
   LogLines console(log);
-  const study::Verifier verify = [&](const study::VerificationRun& run) {
-    SimulateOptions so;
-    so.config = run.config;
-    so.overrides = run.overrides;
-    so.output_dir = run.output_dir.string();
-    so.overwrite = true;
-    so.quiet = true;
-    std::ostringstream sink;
-    const auto v = simulate(so, sink, log);
-    return study::VerificationResult{v.observables, v.run_record};
-  };
   const study::StudyCalibrationOutcome c =
-      study::calibrate_study_recordings({o.study, o.overrides, o.output_dir}, verify, console);
+      study::calibrate_study_recordings({o.study, o.overrides, o.output_dir}, study::simulate_verification, console);
   if (!o.quiet) print_headline(log, c.study_name, c.headline);
   out << "calibration report: " << c.report.string() << "\n";
   return {c.report, c.json};

@@ -8,6 +8,11 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
+
+namespace demcal::dem {
+class Simulation;
+}
 
 namespace demcal::study {
 
@@ -46,6 +51,12 @@ class ProgressObserver {
   virtual void on_run_finished(const FinishedRun& /*run*/, const DesignProgress& /*progress*/) {}
   // While runs execute: after every stored run and at least every half second.
   virtual void on_progress(const DesignProgress& /*progress*/) {}
+  // While one simulation steps (study/simulation_run.hpp), every 64 steps:
+  // `phase` is the apparatus' phase (empty for a plain simulation) and `end_s`
+  // the simulated time the run, or the phase, ends at the latest (infinite
+  // when nothing bounds it).
+  virtual void on_simulation_step(const dem::Simulation& /*simulation*/,
+                                  std::string_view /*phase*/, double /*end_s*/) {}
 };
 
 // Says nothing.

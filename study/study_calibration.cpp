@@ -6,6 +6,7 @@
 #include "config/calibration_config.hpp"
 #include "config/study_config.hpp"
 #include "study/calibration_targets.hpp"
+#include "study/simulation_run.hpp"
 #include "study/stage_cache.hpp"
 #include "study/study_directory.hpp"
 #include "surrogate/gaussian_process.hpp"
@@ -38,6 +39,17 @@ std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& para
 }
 
 }  // namespace
+
+VerificationResult simulate_verification(const VerificationRun& run) {
+  SimulationRunOptions options;
+  options.config = run.config;
+  options.overrides = run.overrides;
+  options.output_dir = run.output_dir.string();
+  options.overwrite = true;
+  SilentObserver silent;
+  const SimulationRunOutcome done = run_simulation(options, silent);
+  return {done.observables, done.run_record};
+}
 
 StudyCalibrationOutcome calibrate_study_recordings(const StudyCalibrationOptions& o,
                                                    const Verifier& verify,

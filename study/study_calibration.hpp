@@ -25,8 +25,8 @@ struct StudyCalibrationOptions {
 };
 
 // [calibration] verify: another study's apparatus simulated at the calibrated
-// point (the paper's conical-pile verification). Running it is `demcal
-// simulate`'s, so the caller does it.
+// point (the paper's conical-pile verification). The caller says how it runs:
+// simulate_verification below, or anything else that yields its observables.
 struct VerificationRun {
   std::filesystem::path config;        // the study config to simulate
   std::vector<std::string> overrides;  // the calibrated values, "name=value"
@@ -37,6 +37,11 @@ struct VerificationResult {
   std::filesystem::path run_record;
 };
 using Verifier = std::function<VerificationResult(const VerificationRun&)>;
+
+// What `demcal calibrate` verifies with: `run` simulated by study::run_simulation
+// (study/simulation_run.hpp), silently, replacing an earlier run.json there.
+// Throws as run_simulation.
+VerificationResult simulate_verification(const VerificationRun& run);
 
 struct StudyCalibrationOutcome {
   std::filesystem::path report;  // index.html
