@@ -52,8 +52,8 @@ class DoeConsole final : public study::ProgressObserver {
     const study::PlannedRun& run = *e.run;
     log_ << "demcal doe: " << who_ << "[" << p.done() << "/" << p.total << "] point " << run.point
          << " replicate " << run.replicate << " " << run.apparatus << " ("
-         << study::describe_point(plan_, run.point) << "): " << (e.ok ? "ok" : "failed")
-         << " in " << seconds_text(e.wall_time_s) << (e.ok ? "" : ": " + e.error) << " -> runs/"
+         << study::describe_point(plan_, run.point) << "): " << (e.ok ? "ok" : "failed") << " in "
+         << seconds_text(e.wall_time_s) << (e.ok ? "" : ": " + e.error) << " -> runs/"
          << run.key.hash << ".json\n";
     // The ETA in a log too (no terminal, no bar): at most every 30 s and at the end.
     if (p.elapsed_s - last_eta_s_ >= 30.0 || p.done() == p.total) {
@@ -105,10 +105,8 @@ void print_adaptive(const DoeOptions& options, const DoePlan& plan, const DoeOut
                     const std::string& who, std::ostream& out) {
   const std::string name = "demcal doe: " + who + plan.study_name + ": adaptive design, ";
   out << name << r.adaptive_runs_done << " runs in " << r.adaptive_batches << " batches ("
-      << r.reused << " found in the store, " << r.executed << " run, " << r.failed
-      << " failed)\n";
-  out << name << (r.adaptive_finished ? "ended: " : "not ended: ") << r.adaptive_statement
-      << "\n";
+      << r.reused << " found in the store, " << r.executed << " run, " << r.failed << " failed)\n";
+  out << name << (r.adaptive_finished ? "ended: " : "not ended: ") << r.adaptive_statement << "\n";
   if (options.dry_run || options.shard || options.group.rank != 0) return;
   out << "store: " << r.runs_dir.string() << "\ntable: " << r.table_csv.string() << " ("
       << plan.rows.size() << " rows), history: " << r.design_history.string() << "\n";
@@ -120,12 +118,12 @@ void print_dry_run(const DoePlan& plan, const DoeOutcome& r, const std::string& 
   out << "store: " << r.runs_dir.string() << "\n";
   for (std::size_t i = 0; i < plan.rows.size(); ++i) {
     const study::PlanRow& row = plan.rows[i];
-    out << "  point " << row.point << " replicate " << row.replicate << " seed " << row.seed
-        << " " << row.apparatus << " (" << study::describe_point(plan, row.point)
+    out << "  point " << row.point << " replicate " << row.replicate << " seed " << row.seed << " "
+        << row.apparatus << " (" << study::describe_point(plan, row.point)
         << "): " << plan.runs[row.run].key.hash << " " << r.row_states[i] << "\n";
   }
-  out << "this process would run " << r.not_run << " of its " << r.assigned << " runs ("
-      << r.reused << " stored); nothing was written\n";
+  out << "this process would run " << r.not_run << " of its " << r.assigned << " runs (" << r.reused
+      << " stored); nothing was written\n";
 }
 
 }  // namespace
@@ -181,8 +179,8 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
                   std::to_string(options.shard->count) + ": ";
   out << "demcal doe: " << who << share_text << study_line << "\n";
   if (!options.collect)
-    out << "demcal doe: " << who << r.assigned << " runs here: " << r.reused
-        << " already stored, " << r.executed << " run (" << r.failed << " failed)"
+    out << "demcal doe: " << who << r.assigned << " runs here: " << r.reused << " already stored, "
+        << r.executed << " run (" << r.failed << " failed)"
         << (r.not_run > 0 ? ", " + std::to_string(r.not_run) + " not run" : "") << " in "
         << seconds_text(r.wall_time_s) << "\n";
   if (group.rank == 0) out << "store: " << r.runs_dir.string() << "\n";
@@ -196,8 +194,7 @@ DoeOutcome run_doe(const DoeOptions& options, std::ostream& out, std::ostream& l
     out << ")\n";
   } else if (options.shard && group.rank == 0) {
     out << "once every shard has finished: demcal doe " << options.study.string() << " --collect"
-        << (options.output_dir != "out" ? " --output " + options.output_dir.string() : "")
-        << "\n";
+        << (options.output_dir != "out" ? " --output " + options.output_dir.string() : "") << "\n";
   }
   return r;
 }

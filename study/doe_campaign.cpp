@@ -72,8 +72,7 @@ DoeCampaign::DoeCampaign(DoeCampaignOptions options)
 DoeCampaignOutcome DoeCampaign::run(ProgressObserver& observer) {
   DoeCampaignOutcome outcome;
   outcome.study_dir = options_.output_dir / plan_.study_name;
-  outcome.runs_dir =
-      options_.run_store.empty() ? outcome.study_dir / "runs" : options_.run_store;
+  outcome.runs_dir = options_.run_store.empty() ? outcome.study_dir / "runs" : options_.run_store;
   outcome.rows = plan_.rows.size();
   outcome.runs = plan_.runs.size();
   return plan_.design.adaptive ? run_adaptive(observer, std::move(outcome))
@@ -112,10 +111,9 @@ DoeCampaignOutcome DoeCampaign::run_grid(ProgressObserver& observer, DoeCampaign
   const unsigned cores = std::thread::hardware_concurrency();
   if (cores > 0 && share.queue.size() > 1 &&
       static_cast<unsigned>(options_.jobs) * static_cast<unsigned>(plan_.threads_per_run) > cores)
-    observer.on_message(rank_label(group) + "note: " + std::to_string(options_.jobs) +
-                        " jobs x " + std::to_string(plan_.threads_per_run) +
-                        " threads per run exceed the " + std::to_string(cores) +
-                        " cores of this machine");
+    observer.on_message(rank_label(group) + "note: " + std::to_string(options_.jobs) + " jobs x " +
+                        std::to_string(plan_.threads_per_run) + " threads per run exceed the " +
+                        std::to_string(cores) + " cores of this machine");
 
   const Clock::time_point start = Clock::now();
   DesignRunResult ran = runner.run(observer);

@@ -90,8 +90,8 @@ struct DoeCampaignOutcome {
   bool adaptive = false;
   std::size_t adaptive_runs_done = 0;
   std::size_t adaptive_batches = 0;
-  bool adaptive_finished = false;  // the design has ended
-  std::string adaptive_statement;  // how it ended, or why it stopped before the end
+  bool adaptive_finished = false;        // the design has ended
+  std::string adaptive_statement;        // how it ended, or why it stopped before the end
   std::filesystem::path design_history;  // design_history.json, when written
   bool complete() const { return not_run == 0 && missing == 0; }
 };

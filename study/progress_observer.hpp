@@ -55,8 +55,8 @@ class ProgressObserver {
   // `phase` is the apparatus' phase (empty for a plain simulation) and `end_s`
   // the simulated time the run, or the phase, ends at the latest (infinite
   // when nothing bounds it).
-  virtual void on_simulation_step(const dem::Simulation& /*simulation*/,
-                                  std::string_view /*phase*/, double /*end_s*/) {}
+  virtual void on_simulation_step(const dem::Simulation& /*simulation*/, std::string_view /*phase*/,
+                                  double /*end_s*/) {}
 };
 
 // Says nothing.

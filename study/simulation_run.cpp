@@ -88,8 +88,7 @@ SimulationRunOutcome run_apparatus(const SimulationRunOptions& options,
     }
     if (t + 0.5 * dt >= next_snap) {
       vtk->write(s);
-      while (next_snap <= t + 0.5 * dt)
-        next_snap = static_cast<double>(++snaps_done) * snap_dt;
+      while (next_snap <= t + 0.5 * dt) next_snap = static_cast<double>(++snaps_done) * snap_dt;
     }
     if ((s.step_count() & 63) == 0) observer.on_simulation_step(s, phase, phase_end_s);
   };
@@ -145,8 +144,7 @@ SimulationRunOutcome run_simulation(const SimulationRunOptions& options,
     config::set_config_value(doc, "output.directory", toml::value<std::string>(*options.output_dir),
                              "--output " + *options.output_dir);
   if (options.threads)
-    config::set_config_value(doc, "simulation.threads",
-                             toml::value<std::int64_t>(*options.threads),
+    config::set_config_value(doc, "simulation.threads", toml::value<std::int64_t>(*options.threads),
                              "--threads " + std::to_string(*options.threads));
   config::SimulationConfig cfg = config::build_simulation(std::move(doc));
   const std::filesystem::path dir = cfg.output.directory;

@@ -40,6 +40,21 @@ std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& para
 
 }  // namespace
 
+std::optional<calibrate::Headline> read_calibration_headline(const fs::path& calibration_json) {
+  try {
+    std::ifstream in(calibration_json);
+    const auto j = nlohmann::json::parse(in);
+    if (!j.contains("headline")) return std::nullopt;
+    calibrate::Headline head;
+    head.header = j["headline"]["header"].get<std::vector<std::string>>();
+    head.rows = j["headline"]["rows"].get<std::vector<std::vector<std::string>>>();
+    head.sentences = j["headline"]["sentences"].get<std::vector<std::string>>();
+    return head;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 VerificationResult simulate_verification(const VerificationRun& run) {
   SimulationRunOptions options;
   options.config = run.config;

@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,12 @@ struct StudyCalibrationOutcome {
   std::string study_name;
   calibrate::Headline headline;  // the report's headline box, for a closing summary
 };
+
+// The headline a calibration report's calibration.json keeps (what `demcal
+// study` shows again when calibrate was up to date); nothing when the file
+// cannot be read or holds none (a report from before the headline).
+std::optional<calibrate::Headline> read_calibration_headline(
+    const std::filesystem::path& calibration_json);
 
 // ConfigError for any input problem (no [calibration], no [design], an
 // `alone` observable without recordings, a reference point of the wrong size).
