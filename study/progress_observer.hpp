@@ -1,8 +1,9 @@
 #pragma once
 // How the study library reports while it works: a design's runs as they
-// finish, the progress of the whole, warnings and notes. The library prints
-// nothing itself; the command line implements this by printing (one line per
-// run, or a bar on a terminal), a test by counting, a service by logging.
+// finish, the progress of the whole, one simulation's steps, warnings and
+// notes. The library prints nothing itself; the command line implements this
+// by printing (one line per run, or a bar on a terminal), a test by counting,
+// a service by logging.
 // Every callback comes from the thread that called into the library, one at
 // a time, so an observer need not be thread-safe.
 
