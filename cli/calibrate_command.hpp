@@ -14,8 +14,8 @@
 //
 // `demcal study <study.toml>`: the whole pipeline in one command — doe, fit,
 // inspect, calibrate — each stage skipped when its inputs have not changed
-// since it last ran (a digest of its inputs is kept in
-// <output>/<study>/stages.json; `doe` itself reuses every stored run).
+// since it last ran (study/study_pipeline.hpp: a digest of its inputs is kept
+// in <output>/<study>/stages.json; `doe` itself reuses every stored run).
 
 #include "cli/doe_command.hpp"
 #include "cli/fit_command.hpp"

@@ -5,21 +5,21 @@
 #include "cli/diagnose_command.hpp"
 #include "cli/doe_command.hpp"
 #include "cli/export_command.hpp"
-#include "study/mpi_session.hpp"
 #include "cli/fit_command.hpp"
-#include "study/run_record.hpp"
 #include "cli/simulate_command.hpp"
 #include "config/schema.hpp"
 #include "config/simulation_config.hpp"
+#include "study/mpi_session.hpp"
+#include "study/run_record.hpp"
 
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
 #include <cstdio>
-#include <string>
 #include <exception>
 #include <iostream>
+#include <string>
 
 namespace {
 
@@ -97,43 +97,49 @@ int main(int argc, char** argv) {
   doe_cmd->add_option("--shard", doe_shard,
                       "i/N: run only the runs numbered i modulo N (no table; merge the stores "
                       "and --collect)");
-  doe_cmd->add_option("--output", doe_opts.output_dir,
-                      "Directory holding <study name>/runs and the tables")
+  doe_cmd
+      ->add_option("--output", doe_opts.output_dir,
+                   "Directory holding <study name>/runs and the tables")
       ->capture_default_str();
   const char* run_store_help =
-      "Keep the run records in DIR instead of <output>/<study>/runs: one store shared by several studies "
-      "of the same apparatus (runs are named by the hash of their inputs, which leaves [study] out)";
+      "Keep the run records in DIR instead of <output>/<study>/runs: one store shared by several "
+      "studies "
+      "of the same apparatus (runs are named by the hash of their inputs, which leaves [study] "
+      "out)";
   doe_cmd->add_option("--run-store", doe_opts.run_store, run_store_help);
-  doe_cmd->add_option("--threads-per-run", doe_opts.threads_per_run,
-                      "OpenMP threads of each run (part of each run's key)")
+  doe_cmd
+      ->add_option("--threads-per-run", doe_opts.threads_per_run,
+                   "OpenMP threads of each run (part of each run's key)")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  doe_cmd->add_option("--set", doe_opts.overrides,
-                      "Override a study value before the design values, as for simulate "
-                      "(repeatable)")
+  doe_cmd
+      ->add_option("--set", doe_opts.overrides,
+                   "Override a study value before the design values, as for simulate "
+                   "(repeatable)")
       ->allow_extra_args(false);
   doe_cmd->add_flag("--quiet,-q", doe_opts.quiet, "No progress bar or line per run");
-  CLI::Option* dry = doe_cmd->add_flag(
-      "--dry-run", doe_opts.dry_run, "List the runs and which are stored; run and write nothing");
-  CLI::Option* collect = doe_cmd->add_flag(
-      "--collect", doe_opts.collect, "Run nothing; write the tables from the store as it is");
+  CLI::Option* dry = doe_cmd->add_flag("--dry-run", doe_opts.dry_run,
+                                       "List the runs and which are stored; run and write nothing");
+  CLI::Option* collect = doe_cmd->add_flag("--collect", doe_opts.collect,
+                                           "Run nothing; write the tables from the store as it is");
   collect->excludes(dry);
-  doe_cmd->add_flag("--retry-failed", doe_opts.retry_failed,
-                    "Run again the runs stored as failed");
+  doe_cmd->add_flag("--retry-failed", doe_opts.retry_failed, "Run again the runs stored as failed");
   // For testing resumption: stop as if killed after storing N runs.
   doe_cmd->add_option("--stop-after", doe_stop_after)->group("")->check(CLI::Range(1, 1 << 30));
 
   cli::FitOptions fit_opts;
   std::string fit_doe;
   const auto add_fit_options = [&](CLI::App* cmd) {
-    cmd->add_option("study", fit_opts.study, "The study config, with [design] and [surrogate] tables (TOML)")
+    cmd->add_option("study", fit_opts.study,
+                    "The study config, with [design] and [surrogate] tables (TOML)")
         ->required();
     cmd->add_option("--output", fit_opts.output_dir, "Directory holding <study name>/ (as for doe)")
         ->capture_default_str();
     cmd->add_option("--doe", fit_doe,
                     "The design table to fit (default: <output>/<study name>/doe.csv), e.g. a "
                     "checked-in doe.csv");
-    cmd->add_option("--set", fit_opts.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+    cmd->add_option("--set", fit_opts.overrides, "Override a study value (repeatable)")
+        ->allow_extra_args(false);
     cmd->add_flag("--quiet,-q", fit_opts.quiet, "Only the paths of what was written, and warnings");
   };
   CLI::App* fit_cmd = app.add_subcommand(
@@ -148,46 +154,63 @@ int main(int argc, char** argv) {
   add_fit_options(inspect_cmd);
   CLI::App* calibrate_cmd = app.add_subcommand(
       "calibrate",
-      "Solve the inverse problem: the parameters that reproduce the study's recordings ([calibration] "
+      "Solve the inverse problem: the parameters that reproduce the study's recordings "
+      "([calibration] "
       "table), with confidence regions, on all recordings and on AoR alone; writes "
       "<output>/<study>/reports/calibration/index.html");
   add_fit_options(calibrate_cmd);
 
   cli::StudyOptions study_opts;
-  CLI::App* study_cmd = app.add_subcommand(
-      "study",
-      "The whole pipeline: doe, fit, inspect, calibrate; resumable, each stage skipped when its inputs "
-      "have not changed");
+  CLI::App* study_cmd = app.add_subcommand("study",
+                                           "The whole pipeline: doe, fit, inspect, calibrate; "
+                                           "resumable, each stage skipped when its inputs "
+                                           "have not changed");
   study_cmd->add_option("study", study_opts.doe.study, "The study config (TOML)")->required();
-  study_cmd->add_option("--jobs,-j", study_opts.doe.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
-  study_cmd->add_option("--output", study_opts.doe.output_dir, "Directory holding <study name>/")->capture_default_str();
-  study_cmd->add_option("--set", study_opts.doe.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
+  study_cmd->add_option("--jobs,-j", study_opts.doe.jobs, "Runs at a time")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  study_cmd->add_option("--output", study_opts.doe.output_dir, "Directory holding <study name>/")
+      ->capture_default_str();
+  study_cmd->add_option("--set", study_opts.doe.overrides, "Override a study value (repeatable)")
+      ->allow_extra_args(false);
   study_cmd->add_option("--run-store", study_opts.doe.run_store, run_store_help);
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
-  study_cmd->add_flag("--force", study_opts.force, "Refit, re-inspect and recalibrate even if nothing changed");
+  study_cmd->add_flag("--force", study_opts.force,
+                      "Refit, re-inspect and recalibrate even if nothing changed");
 
   cli::DiagnoseOptions diag_opts;
-  CLI::App* diagnose_cmd = app.add_subcommand(
-      "diagnose",
-      "When the base model does not reproduce the recordings: locate the mismatch, name the physics left "
-      "out ([diagnosis] table), model it and compare; writes <output>/<study>/reports/diagnosis/index.html");
-  diagnose_cmd->add_option("study", diag_opts.study, "The study config, with [calibration] and [diagnosis] (TOML)")
+  CLI::App* diagnose_cmd =
+      app.add_subcommand("diagnose",
+                         "When the base model does not reproduce the recordings: locate the "
+                         "mismatch, name the physics left "
+                         "out ([diagnosis] table), model it and compare; writes "
+                         "<output>/<study>/reports/diagnosis/index.html");
+  diagnose_cmd
+      ->add_option("study", diag_opts.study,
+                   "The study config, with [calibration] and [diagnosis] (TOML)")
       ->required();
-  diagnose_cmd->add_option("--jobs,-j", diag_opts.jobs, "Runs at a time")->check(CLI::Range(1, 4096))->capture_default_str();
-  diagnose_cmd->add_option("--output", diag_opts.output_dir, "Directory holding <study name>/")->capture_default_str();
-  diagnose_cmd->add_option("--set", diag_opts.overrides, "Override a study value (repeatable)")->allow_extra_args(false);
-  diagnose_cmd->add_option("--run-store", diag_opts.run_store,
-                           std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
+  diagnose_cmd->add_option("--jobs,-j", diag_opts.jobs, "Runs at a time")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  diagnose_cmd->add_option("--output", diag_opts.output_dir, "Directory holding <study name>/")
+      ->capture_default_str();
+  diagnose_cmd->add_option("--set", diag_opts.overrides, "Override a study value (repeatable)")
+      ->allow_extra_args(false);
+  diagnose_cmd->add_option(
+      "--run-store", diag_opts.run_store,
+      std::string(run_store_help) + "; the diagnosis' probes and extended designs use it too");
   diagnose_cmd->add_flag("--quiet,-q", diag_opts.quiet, "No line per run");
   cli::ExportOptions export_opts;
   CLI::App* export_cmd = cli::add_export_command(app, export_opts);
 
   std::string schema_name;
   CLI::App* schema_cmd = app.add_subcommand(
-      "schema", "Print every registered key (contact parts, diagnosis candidates) with its unit, "
-                "default and range");
-  schema_cmd->add_option("name", schema_name, "Only this entry: a part (liquid_bridge), a role "
-                                              "(contact.adhesion), contact, candidates");
+      "schema",
+      "Print every registered key (contact parts, diagnosis candidates) with its unit, "
+      "default and range");
+  schema_cmd->add_option("name", schema_name,
+                         "Only this entry: a part (liquid_bridge), a role "
+                         "(contact.adhesion), contact, candidates");
 
   // A misspelt subcommand ("simulat") is named, with the closest one, rather
   // than reported as a missing subcommand.
@@ -210,8 +233,8 @@ int main(int argc, char** argv) {
     }
     if (best != 0) {
       std::cerr << "demcal: error: unknown subcommand \"" << given << "\""
-                << (best <= 3 ? "; did you mean \"" + closest + "\"?" : "") << " (subcommands: " << names
-                << "; see demcal --help)\n";
+                << (best <= 3 ? "; did you mean \"" + closest + "\"?" : "")
+                << " (subcommands: " << names << "; see demcal --help)\n";
       return 2;
     }
   }
@@ -234,10 +257,13 @@ int main(int argc, char** argv) {
       return cli::run_study(study_opts, std::cout, std::cerr).empty() ? 1 : 0;
     });
 
-  if (*export_cmd) return guarded("", [&] { return cli::run_export(export_opts, std::cout, std::cerr); });
+  if (*export_cmd)
+    return guarded("", [&] { return cli::run_export(export_opts, std::cout, std::cerr); });
 
   if (*diagnose_cmd)
-    return guarded("", [&] { return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0; });
+    return guarded("", [&] {
+      return cli::diagnose(diag_opts, std::cout, std::cerr).outcome == "incomplete" ? 1 : 0;
+    });
 
   if (*fit_cmd || *inspect_cmd || *calibrate_cmd)
     return guarded("", [&] {

@@ -5,7 +5,9 @@
 
 namespace demcal::config {
 
-using namespace reader;
+using reader::above;
+using reader::between;
+using reader::Table;
 
 calibrate::AdaptiveDesignOptions read_adaptive_design_keys(Table& d) {
   calibrate::AdaptiveDesignOptions o;

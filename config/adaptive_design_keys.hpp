@@ -1,6 +1,7 @@
 #pragma once
 // The keys of an adaptive [design] (kind = "adaptive"; docs/adaptive_design.md §8): each
-// sets the calibrate::AdaptiveDesignOptions field of the same name (defaults there):
+// sets the calibrate::AdaptiveDesignOptions field of the same name, defaults there
+// ([design.acquisition] grid_points_per_axis sets acquisition_grid_points_per_axis):
 //
 //   [design]
 //   kind = "adaptive"
@@ -11,7 +12,8 @@
 //   batch_size = 4                    # opt, integer in [1, 1000]: runs busy at once
 //   replicates_per_batch = 2          # opt, integer in [1, 1000]
 //   scatter_degrees_of_freedom = 10   # opt, integer in [1, 1000]
-//   max_runs = 48                     # opt, integer in [initial runs, 5000]
+//   max_runs = 48                     # opt, integer in [initial runs, 5000]; default
+//                                     #   48, or the initial runs when they are more
 //   max_batches = 12                  # opt, integer in [1, 1000]
 //   min_separation = 0.03             # opt, number in (0, 0.5), bound-scaled
 //   [design.acquisition]              # opt
@@ -27,10 +29,13 @@
 //   out_of_range_alpha = 1e-3         #   number in (0, 0.5)
 //   out_of_range_batches = 2          #   integer in [1, 100]
 //
-// `points`, `values`, `skip` and `replicates` are refused: the design chooses its points
-// and replicates itself. The recordings it designs for are [calibration] recordings, the
-// surrogates [surrogate] (a gaussian_process), so the study needs both (checked by the
-// campaign, study/adaptive_campaign.hpp).
+// `points`, `values`, `skip` and `replicates` are refused here (`levels` by the [design]
+// reader, config/design_config.cpp): the design chooses its points and replicates itself.
+// After the keys, AdaptiveDesignOptions::Validate's checks apply. What this reader cannot
+// see is checked by the campaign (study::adaptive_study_design, study/adaptive_campaign.hpp):
+// the study needs [calibration] recordings (what it designs for) and a gaussian_process
+// [surrogate], every recorded setup must be an apparatus the campaign runs, and every
+// recorded observable a scalar column of doe.csv.
 
 #include "calibrate/adaptive_design_options.hpp"
 #include "config/toml_reader.hpp"

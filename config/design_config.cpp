@@ -14,7 +14,12 @@
 
 namespace demcal::config {
 
-using namespace reader;
+using reader::any_number;
+using reader::Context;
+using reader::describe_value;
+using reader::format_number;
+using reader::node_line;
+using reader::Table;
 
 namespace {
 

@@ -16,7 +16,10 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using config::ConfigError;
+using config::observable_names;
+using config::StudyConfig;
+
 namespace {
 
 using RunId = std::pair<std::size_t, std::size_t>;  // (batch, slot)

@@ -20,7 +20,10 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using config::select_apparatus;
+using config::StudyApparatus;
+using config::StudyConfig;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -1,6 +1,6 @@
 #pragma once
 // Running a design's runs into the run store: the part of `demcal doe` that
-// executes (cli/doe_command.hpp describes the command).
+// executes (study/doe_campaign.hpp is the whole campaign).
 //
 // Threads. Runs execute inside this process on `jobs` worker threads, each
 // running one simulation at a time with the plan's threads_per_run OpenMP

@@ -28,7 +28,19 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using config::ConfigDocument;
+using config::ConfigError;
+using config::DiagnosisConfig;
+using config::DoeCsv;
+using config::DoeCsvRow;
+using config::find_physics_candidate;
+using config::load_study_config;
+using config::PhysicsCandidate;
+using config::read_doe_csv;
+using config::set_config_value;
+using config::StudyConfig;
+using config::StudySource;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -377,7 +389,12 @@ void write_report(const fs::path& dir, const std::string& study_name,
                   const std::vector<std::string>& recording_lines,
                   const std::vector<std::string>& design_lines,
                   const std::vector<std::string>& cost_lines, const fs::path& json_file) {
-  using namespace calibrate;
+  using calibrate::BarSeries;
+  using calibrate::DiscrepancyEvidence;
+  using calibrate::Explanation;
+  using calibrate::HtmlReport;
+  using calibrate::bar_figure;
+  using calibrate::p_value_text;
   fs::create_directories(dir);
   HtmlReport r("demcal diagnosis: " + study_name);
   r.heading("Verdict", 2);

@@ -11,7 +11,17 @@
 
 namespace demcal::study {
 
-using namespace demcal::config;
+using config::build_study;
+using config::ConfigDocument;
+using config::ConfigError;
+using config::replicate_seed;
+using config::shortest_decimal;
+using config::study_override_aliases;
+using config::StudyApparatus;
+using config::StudyConfig;
+using config::StudySource;
+using config::without_file_prefix;
+
 namespace {
 
 std::string design_example() {

@@ -1,13 +1,19 @@
 #pragma once
 // How the study library reports while it works: a design's runs as they
-// finish, the progress of the whole, warnings and notes. The library prints
-// nothing itself; the command line implements this by printing (one line per
-// run, or a bar on a terminal), a test by counting, a service by logging.
+// finish, the progress of the whole, one simulation's steps, warnings and
+// notes. The library prints nothing itself; the command line implements this
+// by printing (one line per run, or a bar on a terminal), a test by counting,
+// a service by logging.
 // Every callback comes from the thread that called into the library, one at
 // a time, so an observer need not be thread-safe.
 
 #include <cstddef>
 #include <string>
+#include <string_view>
+
+namespace demcal::dem {
+class Simulation;
+}
 
 namespace demcal::study {
 
@@ -46,6 +52,12 @@ class ProgressObserver {
   virtual void on_run_finished(const FinishedRun& /*run*/, const DesignProgress& /*progress*/) {}
   // While runs execute: after every stored run and at least every half second.
   virtual void on_progress(const DesignProgress& /*progress*/) {}
+  // While one simulation steps (study/simulation_run.hpp), every 64 steps:
+  // `phase` is the apparatus' phase (empty for a plain simulation) and `end_s`
+  // the simulated time the run, or the phase, ends at the latest (infinite
+  // when nothing bounds it).
+  virtual void on_simulation_step(const dem::Simulation& /*simulation*/, std::string_view /*phase*/,
+                                  double /*end_s*/) {}
 };
 
 // Says nothing.

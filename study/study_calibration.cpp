@@ -6,6 +6,7 @@
 #include "config/calibration_config.hpp"
 #include "config/study_config.hpp"
 #include "study/calibration_targets.hpp"
+#include "study/simulation_run.hpp"
 #include "study/stage_cache.hpp"
 #include "study/study_directory.hpp"
 #include "surrogate/gaussian_process.hpp"
@@ -38,6 +39,32 @@ std::string theta_text_plain(const std::vector<calibrate::ParameterBounds>& para
 }
 
 }  // namespace
+
+std::optional<calibrate::Headline> read_calibration_headline(const fs::path& calibration_json) {
+  try {
+    std::ifstream in(calibration_json);
+    const auto j = nlohmann::json::parse(in);
+    if (!j.contains("headline")) return std::nullopt;
+    calibrate::Headline head;
+    head.header = j["headline"]["header"].get<std::vector<std::string>>();
+    head.rows = j["headline"]["rows"].get<std::vector<std::vector<std::string>>>();
+    head.sentences = j["headline"]["sentences"].get<std::vector<std::string>>();
+    return head;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+VerificationResult simulate_verification(const VerificationRun& run) {
+  SimulationRunOptions options;
+  options.config = run.config;
+  options.overrides = run.overrides;
+  options.output_dir = run.output_dir.string();
+  options.overwrite = true;
+  SilentObserver silent;
+  const SimulationRunOutcome done = run_simulation(options, silent);
+  return {done.observables, done.run_record};
+}
 
 StudyCalibrationOutcome calibrate_study_recordings(const StudyCalibrationOptions& o,
                                                    const Verifier& verify,

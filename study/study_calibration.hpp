@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,8 +26,8 @@ struct StudyCalibrationOptions {
 };
 
 // [calibration] verify: another study's apparatus simulated at the calibrated
-// point (the paper's conical-pile verification). Running it is `demcal
-// simulate`'s, so the caller does it.
+// point (the paper's conical-pile verification). The caller says how it runs:
+// simulate_verification below, or anything else that yields its observables.
 struct VerificationRun {
   std::filesystem::path config;        // the study config to simulate
   std::vector<std::string> overrides;  // the calibrated values, "name=value"
@@ -38,12 +39,23 @@ struct VerificationResult {
 };
 using Verifier = std::function<VerificationResult(const VerificationRun&)>;
 
+// What `demcal calibrate` verifies with: `run` simulated by study::run_simulation
+// (study/simulation_run.hpp), silently, replacing an earlier run.json there.
+// Throws as run_simulation.
+VerificationResult simulate_verification(const VerificationRun& run);
+
 struct StudyCalibrationOutcome {
   std::filesystem::path report;  // index.html
   std::filesystem::path json;    // calibration.json
   std::string study_name;
   calibrate::Headline headline;  // the report's headline box, for a closing summary
 };
+
+// The headline a calibration report's calibration.json keeps (what `demcal
+// study` shows again when calibrate was up to date); nothing when the file
+// cannot be read or holds none (a report from before the headline).
+std::optional<calibrate::Headline> read_calibration_headline(
+    const std::filesystem::path& calibration_json);
 
 // ConfigError for any input problem (no [calibration], no [design], an
 // `alone` observable without recordings, a reference point of the wrong size).
