@@ -206,11 +206,13 @@ int main(int argc, char** argv) {
   std::string schema_name;
   CLI::App* schema_cmd = app.add_subcommand(
       "schema",
-      "Print every registered key (contact parts, diagnosis candidates) with its unit, "
-      "default and range");
+      "Print every registered key (apparatus, walls, regions, inserters, size distributions, "
+      "surrogates, contact parts, diagnosis candidates) with its unit, default and range, "
+      "and the observables");
   schema_cmd->add_option("name", schema_name,
-                         "Only this entry: a part (liquid_bridge), a role "
-                         "(contact.adhesion), contact, candidates");
+                         "Only this entry: a model (sandglass, plane, log_normal, liquid_bridge), "
+                         "a family (apparatus, wall, size, surrogate, contact.adhesion), "
+                         "contact, candidates, observables");
 
   // A misspelt subcommand ("simulat") is named, with the closest one, rather
   // than reported as a missing subcommand.
