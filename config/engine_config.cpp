@@ -19,16 +19,6 @@ std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& 
   c.line = t.line();
   c.file = file;
   c.kind = t.choice_or("kind", known_engine_kinds(), "demcal");
-  // Substitutions only the LAMMPS mapping makes (engines/parameter_mapping.hpp): on another
-  // kind they would be silently ignored.
-  for (const char* key : {"allow_rolling_substitute", "allow_dry_walls"})
-    if (t.has(key) && c.kind != "lammps")
-      t.fail(key, "is for kind = \"lammps\" only (the substitutions of its mapping, "
-                  "engines/parameter_mapping.hpp); kind is \"" + c.kind + "\"");
-  if (c.kind == "lammps") {
-    c.allow_rolling_substitute = t.boolean_or("allow_rolling_substitute", false);
-    c.allow_dry_walls = t.boolean_or("allow_dry_walls", false);
-  }
   if (c.is_demcal()) {
     // demcal runs inside this process: a launch line would be silently ignored.
     if (t.has("launch"))
@@ -49,6 +39,16 @@ std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& 
     if (std::string(";&|").find(c.launch[last]) != std::string::npos)
       t.fail("launch", "expected a command that takes \"-in <deck>\" after it; it ends in '" +
                            std::string(1, c.launch[last]) + "'");
+  }
+  // Substitutions only the LAMMPS mapping makes (engines/parameter_mapping.hpp): on another
+  // kind they would be silently ignored.
+  for (const char* key : {"allow_rolling_substitute", "allow_dry_walls"})
+    if (t.has(key) && c.kind != "lammps")
+      t.fail(key, "is for kind = \"lammps\" only (the substitutions of its mapping, "
+                  "engines/parameter_mapping.hpp); kind is \"" + c.kind + "\"");
+  if (c.kind == "lammps") {
+    c.allow_rolling_substitute = t.boolean_or("allow_rolling_substitute", false);
+    c.allow_dry_walls = t.boolean_or("allow_dry_walls", false);
   }
   t.finish();
   return c;
