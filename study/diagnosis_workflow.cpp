@@ -1,6 +1,7 @@
 #include "study/diagnosis_workflow.hpp"
 
 #include "calibrate/discrepancy_diagnosis.hpp"
+#include "calibrate/probe_sensitivity.hpp"
 #include "calibrate/report/figures.hpp"
 #include "calibrate/report/html_report.hpp"
 #include "config/design_config.hpp"
@@ -920,7 +921,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       calibrate::CandidateModule m;
       m.name = c.entry->name;
       m.parameter = {c.entry->parameter, c.off, c.lower, c.upper};
-      const double dphi = c.probe - c.off;
       for (const auto& t : targets) {
         const auto it = means.find({0, t.setup, t.observable});
         const auto below = means.find({1, t.setup, t.observable});
@@ -937,18 +937,20 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
               return r.setup == t.setup && r.observable == t.observable;
             });
         const double single_sd = t.sigma_dem * std::sqrt(static_cast<double>(rec->repeats));
+        const calibrate::ProbeMean probe{c.probe, it->second.first, n};
+        // Both probes: the secant, DEM against DEM; one: against the surrogate at the base.
+        calibrate::ProbeSensitivity s;
         if (c.probe_below && below != means.end()) {
-          // The secant through both probes: DEM against DEM, no surrogate in it.
-          const double span = c.probe - *c.probe_below;
-          m.sensitivity.push_back((it->second.first - below->second.first) / span);
-          m.sensitivity_se.push_back(single_sd * std::sqrt(1.0 / n + 1.0 / below->second.second) /
-                                     span);
-          continue;
+          s = calibrate::secant_sensitivity(
+              probe, {*c.probe_below, below->second.first, static_cast<double>(below->second.second)},
+              single_sd);
+        } else {
+          const auto pred = t.model->predict(at);
+          s = calibrate::sensitivity_against_prediction(probe, c.off, pred.mean(0),
+                                                        pred.variance(0), single_sd);
         }
-        const auto pred = t.model->predict(at);
-        m.sensitivity.push_back((it->second.first - pred.mean(0)) / dphi);
-        m.sensitivity_se.push_back(std::sqrt(single_sd * single_sd / n + pred.variance(0)) /
-                                   std::abs(dphi));
+        m.sensitivity.push_back(s.value);
+        m.sensitivity_se.push_back(s.standard_error);
       }
       signatures.push_back({m.name, m.parameter, m.sensitivity, m.sensitivity_se});
       modules.push_back(std::move(m));

@@ -19,7 +19,8 @@
 //      that the sensitivity of every recording to it is measured, not assumed.
 //      A candidate whose base value lies inside its range (wall friction, size
 //      spread) is probed on both sides of it, and its sensitivity is the secant
-//      between the two: an effect that saturates on one side shows on the other;
+//      between the two: an effect that saturates on one side shows on the other
+//      (the statistics, with their standard errors: calibrate/probe_sensitivity.hpp);
 //   4. the leading candidates by the score test get a design extended into
 //      their parameter (Latin hypercube in (parameters, candidate)), which,
 //      with the base design at the candidate's "off" value, fits surrogates
