@@ -1,5 +1,7 @@
 #include "surrogate/surrogate_io.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -218,21 +220,39 @@ GaussianProcess gaussian_process_from_json(const json& j) {
   return GaussianProcess::from_state(std::move(s));
 }
 
+namespace {
+
+std::unique_ptr<SurrogateModel> load_polynomial_surface(const json& j) {
+  return std::make_unique<PolynomialSurface>(polynomial_surface_from_json(j));
+}
+std::unique_ptr<SurrogateModel> load_gaussian_process(const json& j) {
+  return std::make_unique<GaussianProcess>(gaussian_process_from_json(j));
+}
+
+// The stored kinds, by the "kind" a file names: a run-time table, as the fitted kinds
+// (surrogate_fit.cpp).
+struct StoredKind {
+  const char* kind;
+  std::unique_ptr<SurrogateModel> (*load)(const json&);
+};
+constexpr StoredKind kStoredKinds[] = {
+    {"polynomial_surface", &load_polynomial_surface},
+    {"gaussian_process", &load_gaussian_process},
+};
+
+}  // namespace
+
 std::unique_ptr<SurrogateModel> surrogate_from_json(const json& j) {
   check_header(j, "");
   const std::string kind = read_string(j, "kind");
-  if (kind == "polynomial_surface")
-    return std::make_unique<PolynomialSurface>(polynomial_surface_from_json(j));
-  if (kind == "gaussian_process") return std::make_unique<GaussianProcess>(gaussian_process_from_json(j));
+  for (const StoredKind& k : kStoredKinds)
+    if (kind == k.kind) return k.load(j);
   throw std::invalid_argument("surrogate file: unknown 'kind' '" + kind + "'");
 }
 
 void save_surrogate(const SurrogateModel& model, const std::filesystem::path& path) {
-  const std::string text = to_json(model).dump(2);
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write surrogate file '" + path.string() + "'");
-  out << text << '\n';
-  if (!out) throw std::runtime_error("error writing surrogate file '" + path.string() + "'");
+  // demcal's one atomic writer: a killed process leaves the old file or none, never half.
+  io::write_file_atomically(path, to_json(model).dump(2) + "\n");
 }
 
 std::unique_ptr<SurrogateModel> load_surrogate(const std::filesystem::path& path) {
