@@ -2,6 +2,7 @@
 
 #include "dem/measure/angle_of_repose.hpp"
 #include "dem/measure/discharge.hpp"
+#include "dem/measure/fill_bulk_density.hpp"
 
 #include <algorithm>
 #include <array>
@@ -35,40 +36,21 @@ double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 
 
 namespace {
 
-// dem::Sandglass::fill_surface_height_m and chamber_volume_below_m3 (slice),
-// restated on a dump: the plan carries the chamber's numbers.
+// dem/measure/fill_bulk_density's rule on the engine's dump of the settled fill; the plan
+// carries the chamber (a slice: the decks write no 3D sandglass).
 double bulk_density_kg_m3(const nlohmann::json& b, const ParticleDump& fill, double density) {
-  const double ru = b.at("upper_radius_m").get<double>();
-  const double r0 = b.at("orifice_radius_m").get<double>();
-  const double zo = b.at("orifice_plane_z_m").get<double>();
-  const double cone = b.at("hopper_height_m").get<double>();
-  const double depth = b.at("slice_thickness_m").get<double>();
-  const double bin = 2.0 * b.at("mean_diameter_m").get<double>();
-  const int nb = std::max(1, static_cast<int>(1.6 * ru / bin));
-  std::vector<double> top(static_cast<std::size_t>(nb), -1.0);
+  dem::FillChamber c;
+  c.upper_radius_m = b.at("upper_radius_m").get<double>();
+  c.orifice_radius_m = b.at("orifice_radius_m").get<double>();
+  c.orifice_plane_z_m = b.at("orifice_plane_z_m").get<double>();
+  c.hopper_height_m = b.at("hopper_height_m").get<double>();
+  c.slice = true;
+  c.slice_thickness_m = b.at("slice_thickness_m").get<double>();
+  c.bin_width_m = 2.0 * b.at("mean_diameter_m").get<double>();
   double mass = 0.0;
-  for (std::size_t i = 0; i < fill.size(); ++i) {
-    const double r = fill.radius_m[i];
-    mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
-    const dem::Vec3& x = fill.position_m[i];
-    if (x.z < zo) continue;
-    const int k = static_cast<int>(std::floor((x.x + 0.8 * ru) / bin));
-    if (k < 0 || k >= nb) continue;
-    top[static_cast<std::size_t>(k)] = std::max(top[static_cast<std::size_t>(k)], x.z + r);
-  }
-  double sum = 0.0;
-  int n = 0;
-  for (double t : top)
-    if (t > 0.0) {
-      sum += t;
-      ++n;
-    }
-  const double surface = n > 0 ? sum / n : zo;
-  const double z = surface - zo;
-  double volume = 0.0;
-  const double zc = std::min(z, cone);
-  if (zc > 0.0) volume += (2.0 * r0 + (ru - r0) * zc / cone) * zc * depth;
-  if (z > cone) volume += 2.0 * ru * (z - cone) * depth;
+  for (const double r : fill.radius_m) mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double surface = dem::fill_surface_height_m(fill.position_m, fill.radius_m, c);
+  const double volume = dem::chamber_volume_below_m3(surface, c);
   return volume > 0.0 ? mass / volume : std::nan("");
 }
 

@@ -156,49 +156,16 @@ Sandglass::Sandglass(const SandglassOptions& options, const GranularMaterial& ma
   sim_->add_inserter(make_fill_inserter(std::move(region), std::move(sizes), fill));
 }
 
-double Sandglass::chamber_volume_below_m3(double h) const {
-  const double zo = o_.drop_height_m;
-  const double ru = 0.5 * o_.upper_diameter_m, r0 = 0.5 * o_.orifice_diameter_m;
-  const double z = h - zo;
-  if (z <= 0.0) return 0.0;
-  const bool slice = o_.reduction.slice;
-  double v = 0.0;
-  const double zc = std::min(z, cone_height_m_);
-  if (zc > 0.0) {
-    const double r1 = r0 + (ru - r0) * zc / cone_height_m_;
-    v += slice ? (r0 + r1) * zc * depth_m_ : kPi * zc * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;
-  }
-  if (z > cone_height_m_) {
-    const double zz = z - cone_height_m_;
-    v += slice ? 2.0 * ru * zz * depth_m_ : kPi * ru * ru * zz;
-  }
-  return v;
-}
-
-double Sandglass::fill_surface_height_m() const {
-  // Mean of the highest particle tops in bins across the inner 80 % of the
-  // chamber: the walls' rim effects and stray grains stay out of the mean.
-  const auto& p = sim_->particles();
-  const double ru = 0.5 * o_.upper_diameter_m;
-  const double bin = 2.0 * diameter_m_;
-  const int nb = std::max(1, static_cast<int>(1.6 * ru / bin));
-  std::vector<double> top(nb, -1.0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3& x = p.position_m[i];
-    if (x.z < o_.drop_height_m) continue;
-    const double s = o_.reduction.slice ? x.x : std::copysign(std::hypot(x.x, x.y), x.x);
-    const int b = static_cast<int>(std::floor((s + 0.8 * ru) / bin));
-    if (b < 0 || b >= nb) continue;
-    top[b] = std::max(top[b], x.z + p.radius_m[i]);
-  }
-  double sum = 0.0;
-  int n = 0;
-  for (double t : top)
-    if (t > 0.0) {
-      sum += t;
-      ++n;
-    }
-  return n > 0 ? sum / n : o_.drop_height_m;
+FillChamber Sandglass::fill_chamber() const {
+  FillChamber c;
+  c.orifice_plane_z_m = o_.drop_height_m;
+  c.upper_radius_m = 0.5 * o_.upper_diameter_m;
+  c.orifice_radius_m = 0.5 * o_.orifice_diameter_m;
+  c.hopper_height_m = cone_height_m_;
+  c.slice = o_.reduction.slice;
+  c.slice_thickness_m = depth_m_;
+  c.bin_width_m = 2.0 * diameter_m_;
+  return c;
 }
 
 ApparatusResult Sandglass::run(const StepObserver& observe) {
@@ -214,8 +181,10 @@ ApparatusResult Sandglass::run(const StepObserver& observe) {
   const bool settled =
       protocol::settle(sim, protocol_, protocol_.max_settle_s, observe, "fill", r.details);
   const double fill_mass = protocol::total_mass_kg(sim.particles());
-  const double surface = fill_surface_height_m();
-  const double bulk_volume = chamber_volume_below_m3(surface);
+  const FillChamber chamber = fill_chamber();
+  const double surface =
+      fill_surface_height_m(sim.particles().position_m, sim.particles().radius_m, chamber);
+  const double bulk_volume = chamber_volume_below_m3(surface, chamber);
   r.details["particles"] = sim.particles().size();
   r.details["fill_settled"] = settled;
   r.details["fill_surface_height_m"] = surface;

@@ -17,6 +17,7 @@
 // (fill_mass_kg * thickness / upper_diameter_m), i.e. the same fill height.
 
 #include "dem/apparatus/apparatus.hpp"
+#include "dem/measure/fill_bulk_density.hpp"
 
 #include <string>
 #include <vector>
@@ -66,8 +67,8 @@ class Sandglass final : public Apparatus {
   double particle_diameter_m() const { return diameter_m_; }
 
  private:
-  double fill_surface_height_m() const;
-  double chamber_volume_below_m3(double height_m) const;
+  // The upper chamber as the bulk-density rule sees it (dem/measure/fill_bulk_density.hpp).
+  FillChamber fill_chamber() const;
 
   SandglassOptions o_;
   RunProtocol protocol_;
