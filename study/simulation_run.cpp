@@ -5,6 +5,7 @@
 #include "config/toml_reader.hpp"
 #include "dem/output/vtk_writer.hpp"
 #include "dem/simulation.hpp"
+#include "study/engine_evaluator.hpp"
 
 #include <omp.h>
 
@@ -42,6 +43,48 @@ void note_end_state(const dem::Simulation& sim, SimulationRunOutcome& outcome) {
   outcome.particle_steps = sim.particle_steps();
 }
 
+// A study whose [engine] names LAMMPS or LIGGGHTS: the deck is written and run in
+// <output directory>/engine-run, its dumps measured by demcal's own code, and run.json
+// written as for demcal's run, with "engine" and "engine_deck" saying how it was made (as
+// the design runner's records of that engine do). No VTK output: the engine's dumps are
+// beside the deck.
+SimulationRunOutcome run_on_other_engine(const config::StudyConfig& study,
+                                         const config::StudyApparatus& chosen,
+                                         const std::filesystem::path& dir) {
+  std::optional<EngineEvaluator> engine =
+      EngineEvaluator::for_run(study, chosen, dir / "engine-run");
+  SimulationRunOutcome outcome;
+  outcome.name = study.name;
+  outcome.apparatus = chosen.name;
+  outcome.run_record = run_record_path(dir);
+  RunResults& res = outcome.results;
+  const Clock::time_point start = Clock::now();
+  dem::ApparatusResult result;
+  try {
+    result = engine->run();
+  } catch (const std::exception& e) {
+    res.stopped_because = "error";
+    res.error = e.what();
+    res.wall_time_s = seconds_since(start);
+    try {
+      nlohmann::json record = make_apparatus_run_record(study, chosen, res, nullptr);
+      engine->describe(record);
+      write_failed_run_record(dir, record);
+    } catch (const std::exception&) {
+    }
+    throw;
+  }
+  res.stopped_because = "finished";
+  res.wall_time_s = seconds_since(start);
+  nlohmann::json record = make_apparatus_run_record(study, chosen, res, &result);
+  engine->describe(record);
+  res.time_step_s = record.value("time_step_s", 0.0);
+  write_run_record(dir, record);
+  outcome.observables = config::with_stable_observables(result.observables);
+  outcome.particles = result.details.value("particles", std::size_t{0});
+  return outcome;
+}
+
 // The apparatus path: `doc` is the study config as read, no overrides applied yet.
 SimulationRunOutcome run_apparatus(const SimulationRunOptions& options,
                                    config::ConfigDocument&& doc, ProgressObserver& observer) {
@@ -56,6 +99,12 @@ SimulationRunOutcome run_apparatus(const SimulationRunOptions& options,
   config::StudyConfig study = config::build_study(std::move(doc));
   config::StudyApparatus& chosen = config::select_apparatus(study, options.apparatus);
   const std::filesystem::path dir = config::output_directory(study, chosen.name);
+  // [engine] naming another engine: checked (deck writable, launch line starts that engine)
+  // before the output directory is touched, then run there instead of demcal's own DEM.
+  if (engine_run_key(study, chosen.name)) {
+    prepare_output_directory(dir, options.overwrite);
+    return run_on_other_engine(study, chosen, dir);
+  }
   prepare_output_directory(dir, options.overwrite);
 
   dem::Apparatus& apparatus = *chosen.apparatus;

@@ -9,6 +9,7 @@
 #include "study/doe_plan.hpp"
 #include "study/engine_evaluator.hpp"
 #include "study/run_store.hpp"
+#include "study/simulation_run.hpp"
 #include "tests/support/study_text.hpp"
 #include "tests/support/test_files.hpp"
 
@@ -191,6 +192,38 @@ TEST(EngineDispatch, AStatedSubstitutionLetsLammpsRunAndIsInTheKey) {
   EXPECT_NE(liggghts.find("engine.allow_dry_walls: is for kind = \"lammps\" only"),
             std::string::npos)
       << liggghts;
+}
+
+TEST(EngineDispatch, SimulateRunsTheStudysEngineToo) {
+  // `demcal simulate` on a study whose [engine] is another engine runs that engine, as
+  // `doe` does; before, it silently ran demcal's own DEM.
+  const fs::path study = write_study("simulate", study_text(fake_engine()));
+  SimulationRunOptions o;
+  o.config = study;
+  o.output_dir = (study.parent_path() / "run").string();
+  o.overrides = {"mu_r=0.2"};
+  SilentObserver quiet;
+  const SimulationRunOutcome out = run_simulation(o, quiet);
+  ASSERT_TRUE(fs::exists(out.run_record));
+  const nlohmann::json r = nlohmann::json::parse(testing::slurp(out.run_record));
+  EXPECT_EQ(r["engine"]["name"], "liggghts");
+  EXPECT_EQ(r["engine"]["launch"], kFake);
+  EXPECT_EQ(r["results"]["stopped_because"], "finished");
+  EXPECT_TRUE(fs::exists(study.parent_path() / "run" / "engine-run" / "in.demcal"));
+  // demcal measured the fake's heap: flanks at atan(0.3 + 2 mu_r) (LIGGGHTS's cdt mu_r).
+  ASSERT_TRUE(out.observables["angle_of_repose_deg"].is_number()) << r["details"].dump();
+  EXPECT_NEAR(out.observables["angle_of_repose_deg"].get<double>(),
+              std::atan(0.3 + 0.4) * 180.0 / std::numbers::pi, 2.0);
+  // A launch line that starts no engine is refused before the output directory is touched.
+  std::string text = study_text(fake_engine());
+  text.replace(text.find(kFake), kFake.size(), "/bin/true");
+  const fs::path bad = write_study("simulate-bad", text);
+  o.config = bad;
+  o.output_dir = (bad.parent_path() / "run").string();
+  EXPECT_THROW(run_simulation(o, quiet), ConfigError);
+  EXPECT_FALSE(fs::exists(bad.parent_path() / "run"));
+  fs::remove_all(study.parent_path());
+  fs::remove_all(bad.parent_path());
 }
 
 }  // namespace
