@@ -109,10 +109,14 @@ SimulateOutcome simulate(const SimulateOptions& options, std::ostream& out,
     if (r.apparatus.empty())
       out << "stopped " << (res.stopped_because == "at_rest" ? "at rest" : "at the end time")
           << format(" at t = %.4f s after ", r.end_time_s);
+    else if (!r.engine.empty())
+      out << r.apparatus << ": finished on " << r.engine << "; ";
     else
       out << r.apparatus << format(": finished at t = %.4f s after ", r.end_time_s);
-    out << r.steps << " steps; " << r.particles << " particles"
-        << format(", %.1f s wall time, %.3g particle-steps/s", res.wall_time_s, rate) << "\n";
+    if (r.engine.empty()) out << r.steps << " steps; ";
+    out << r.particles << " particles" << format(", %.1f s wall time", res.wall_time_s);
+    if (r.engine.empty()) out << format(", %.3g particle-steps/s", rate);
+    out << "\n";
     for (const auto& [name, value] : r.observables.items())
       out << "  " << name << " = " << observable_text(value) << "\n";
   }

@@ -56,6 +56,7 @@ SimulationRunOutcome run_on_other_engine(const config::StudyConfig& study,
   SimulationRunOutcome outcome;
   outcome.name = study.name;
   outcome.apparatus = chosen.name;
+  outcome.engine = study.engine->kind;
   outcome.run_record = run_record_path(dir);
   RunResults& res = outcome.results;
   const Clock::time_point start = Clock::now();

@@ -48,6 +48,9 @@ struct SimulationRunOutcome {
   RunResults results;
   std::string name;       // the simulation's, or the study's
   std::string apparatus;  // study configs: the apparatus run; empty otherwise
+  // The other engine that ran it ([engine], "lammps" or "liggghts"); empty for demcal's
+  // own, which alone fills end_time_s, steps and particle_steps.
+  std::string engine;
   // Study configs: ApparatusResult::observables (the stable names always present).
   nlohmann::json observables = nlohmann::json::object();
   double end_time_s = 0.0;  // simulated time reached

@@ -206,6 +206,7 @@ TEST(EngineDispatch, SimulateRunsTheStudysEngineToo) {
   const SimulationRunOutcome out = run_simulation(o, quiet);
   ASSERT_TRUE(fs::exists(out.run_record));
   const nlohmann::json r = nlohmann::json::parse(testing::slurp(out.run_record));
+  EXPECT_EQ(out.engine, "liggghts");
   EXPECT_EQ(r["engine"]["name"], "liggghts");
   EXPECT_EQ(r["engine"]["launch"], kFake);
   EXPECT_EQ(r["results"]["stopped_because"], "finished");
