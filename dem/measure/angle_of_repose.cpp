@@ -12,6 +12,10 @@
 namespace demcal::dem {
 namespace {
 
+// The most bins a measured surface profile may span (measure_profile_angle_of_repose).
+constexpr double kMaxProfileBins = 1e6;
+
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 // A grain resting on the floor tops out at base + d; the extra quarter
@@ -350,7 +354,15 @@ AngleOfRepose measure_slice_angle_of_repose(const std::vector<Vec3>& position_m,
     s_max = std::max(s_max, position_m[i][axis]);
   }
   const double w = r.bin_width_m;
-  const auto bins = static_cast<std::size_t>(std::floor((s_max - s_min) / w)) + 1;
+  // A profile is a laboratory heap, a few hundred bins across; a span of millions of bins is
+  // a position in the wrong unit or a stray reading, and would ask for gigabytes.
+  const double span_bins = std::floor((s_max - s_min) / w);
+  if (!(span_bins < kMaxProfileBins))
+    throw std::runtime_error("angle of repose: the profile spans " +
+                             std::to_string(s_max - s_min) + " m, more than " +
+                             std::to_string(static_cast<long>(kMaxProfileBins)) + " bins of " +
+                             std::to_string(w) + " m (a position in the wrong unit?)");
+  const auto bins = static_cast<std::size_t>(span_bins) + 1;
   Profile p(bins);
   for (std::size_t k = 0; k < bins; ++k) p.centre_m[k] = s_min + (static_cast<double>(k) + 0.5) * w;
   for (std::size_t i : sel.index) {
@@ -411,7 +423,15 @@ AngleOfRepose measure_profile_angle_of_repose(const std::vector<double>& positio
   r.base_height_m = options.base_height_m;
   r.particles_used = 0;
   const double w = r.bin_width_m;
-  const auto bins = static_cast<std::size_t>(std::floor((s_max - s_min) / w)) + 1;
+  // A profile is a laboratory heap, a few hundred bins across; a span of millions of bins is
+  // a position in the wrong unit or a stray reading, and would ask for gigabytes.
+  const double span_bins = std::floor((s_max - s_min) / w);
+  if (!(span_bins < kMaxProfileBins))
+    throw std::runtime_error("angle of repose: the profile spans " +
+                             std::to_string(s_max - s_min) + " m, more than " +
+                             std::to_string(static_cast<long>(kMaxProfileBins)) + " bins of " +
+                             std::to_string(w) + " m (a position in the wrong unit?)");
+  const auto bins = static_cast<std::size_t>(span_bins) + 1;
   Profile p(bins);
   for (std::size_t k = 0; k < bins; ++k) p.centre_m[k] = s_min + (static_cast<double>(k) + 0.5) * w;
   for (std::size_t i = 0; i < position_m.size(); ++i) {
