@@ -20,6 +20,7 @@
 #include "config/study_config.hpp"
 #include "io/observable_registry.hpp"
 #include "surrogate/surrogate_fit.hpp"
+#include "tests/support/study_text.hpp"
 
 #include <gtest/gtest.h>
 
@@ -222,31 +223,12 @@ void expect_no_drift(const ModelRegistry<Model>& registry, const Examples& examp
 }
 
 // A small material and protocol, as a study gives them to an apparatus reader.
-const char* const kStudy = R"([study]
+const std::string kStudy = R"([study]
 name = "registry"
-[material]
-name = "sand"
-density_kg_m3 = 2650.0
-shear_modulus_pa = 3.0e10
-poisson_ratio = 0.25
-size = { distribution = "uniform", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 }
-[wall_material]
-name = "glass"
-density_kg_m3 = 2500.0
-youngs_modulus_pa = 6.3e10
-poisson_ratio = 0.23
-[contact]
-normal = "hertz"
-tangential = "mindlin"
-rolling = "cdt"
-[interaction.particle_particle]
-restitution = 0.6
-sliding_friction = 0.52
-rolling_friction = 0.3
-[interaction.particle_wall]
-restitution = 0.6
-sliding_friction = 0.5
-rolling_friction = 0.3
+)" +
+    testing::sand_and_glass_tables(
+        {.size = R"({ distribution = "uniform", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 })"}) +
+    R"(
 [apparatus.rectangular_container]
 width_m = 0.22
 height_m = 0.1
