@@ -19,7 +19,10 @@ struct Recording {
   // test's scatter, nor the scatter counted twice.
   int repeats = 1;
   std::string unit;        // as written, checked against the observable
-  std::size_t line = 0;    // in the recordings file, for messages
+  // Where it was read, for messages: the recordings CSV and its row, or the study file and
+  // the line of its [raw_recordings.<setup>] table for a value measured from raw series.
+  std::size_t line = 0;
+  std::string file = {};
 };
 
 // A measured time series, e.g. m(t) of a discharge (time_s, value).

@@ -8,15 +8,20 @@ namespace demcal::config {
 
 std::optional<CalibrationConfig> read_calibration(reader::Table& root,
                                                   const std::string& study_file,
-                                                  const std::optional<DesignConfig>& design) {
+                                                  const std::optional<DesignConfig>& design,
+                                                  bool has_raw_recordings) {
   if (!root.has("calibration")) return std::nullopt;
   reader::Table t = root.table("calibration");
   CalibrationConfig c;
-  const std::string rec = t.string("recordings");
-  if (rec.empty())
-    t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
-  const std::filesystem::path p(rec);
-  c.recordings = p.is_absolute() ? p : std::filesystem::path(study_file).parent_path() / p;
+  // Without raw series the CSV is the only source of recordings, so the key is required
+  // (and its absence reported as before).
+  if (!has_raw_recordings || t.has("recordings")) {
+    const std::string rec = t.string("recordings");
+    if (rec.empty())
+      t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
+    const std::filesystem::path p(rec);
+    c.recordings = p.is_absolute() ? p : std::filesystem::path(study_file).parent_path() / p;
+  }
   if (t.has("alone")) {
     std::vector<std::string> options = observable_names();
     options.push_back("");

@@ -1,6 +1,9 @@
 #pragma once
 // The [calibration] table of a study config: what `demcal calibrate` fits the
-// surrogates to, and how hard it looks. Every key but `recordings` is optional:
+// surrogates to, and how hard it looks. Every key but `recordings` is optional, and
+// `recordings` too when the study measures its recordings from raw series
+// ([raw_recordings], config/raw_recordings.hpp): a laboratory with only profiles and m(t)
+// files needs no hand-made CSV.
 //
 //   [calibration]
 //   recordings = "recordings.csv"     # relative to the study file; config/recordings_csv.hpp
@@ -32,7 +35,9 @@
 namespace demcal::config {
 
 struct CalibrationConfig {
-  std::filesystem::path recordings;  // resolved against the study file's directory
+  // Resolved against the study file's directory; empty: none (the study's recordings all
+  // come from [raw_recordings]).
+  std::filesystem::path recordings;
   std::optional<std::string> alone;  // nullopt: the default rule
   double confidence = 0.95;
   int grid_points_per_axis = 121;
@@ -47,8 +52,10 @@ struct CalibrationConfig {
 };
 
 // `design`: the study's, when it has one; the reference point must lie in its box.
+// `has_raw_recordings`: the study has a [raw_recordings] table, so `recordings` may be
+// left out.
 std::optional<CalibrationConfig> read_calibration(
     reader::Table& root, const std::string& study_file,
-    const std::optional<DesignConfig>& design = std::nullopt);
+    const std::optional<DesignConfig>& design = std::nullopt, bool has_raw_recordings = false);
 
 }  // namespace demcal::config

@@ -111,6 +111,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
            "expected " + std::to_string(expected.size()) + " fields (" + joined(expected) +
                "), got " + std::to_string(f.size()));
     calibrate::Recording r;
+    r.file = path.string();
     r.line = n;
     r.setup = f[0];
     r.observable = f[1];

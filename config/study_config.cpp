@@ -278,7 +278,7 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // [surrogate]
   out.surrogate = read_surrogate(root);
   // [calibration]
-  out.calibration = read_calibration(root, doc.file, out.design);
+  out.calibration = read_calibration(root, doc.file, out.design, root.has("raw_recordings"));
   // [diagnosis]
   {
     std::vector<std::string> setups;

@@ -78,7 +78,7 @@ AdaptiveStudyDesign adaptive_study_design(const DoePlan& plan) {
   d.problem.recordings = study_recordings(study);
   const std::vector<std::string>& columns = observable_names();
   for (const calibrate::Recording& r : d.problem.recordings) {
-    const std::string where = study.calibration->recordings.string() + ":" + std::to_string(r.line);
+    const std::string where = r.file + ":" + std::to_string(r.line);
     if (std::find(plan.apparatus.begin(), plan.apparatus.end(), r.setup) == plan.apparatus.end())
       throw ConfigError(where + ": " + r.setup + " is recorded, but the campaign does not run it "
                                 "(--apparatus); an adaptive design needs every recorded setup");

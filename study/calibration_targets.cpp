@@ -55,16 +55,22 @@ std::vector<calibrate::Recording> study_recordings(const StudyConfig& study) {
     setups.push_back(a.name);
     kinds.push_back({a.name, a.kind});
   }
-  std::vector<calibrate::Recording> all = read_recordings_csv(study.calibration->recordings, setups);
-  // A row naming an observable its setup's kind does not measure (io/observable_registry.hpp).
-  config::require_measured_by_setups(all, study.calibration->recordings, kinds);
+  std::vector<calibrate::Recording> all;
+  if (!study.calibration->recordings.empty()) {
+    all = read_recordings_csv(study.calibration->recordings, setups);
+    // A row naming an observable its setup's kind does not measure (io/observable_registry.hpp).
+    config::require_measured_by_setups(all, study.calibration->recordings, kinds);
+  }
   if (!study.raw_recordings) return all;
   // The raw series measured as the runs are (config/raw_recordings.hpp), beside the numbers.
-  for (const auto& r : to_recordings(measure_raw_recordings(*study.raw_recordings))) {
+  for (auto r : to_recordings(measure_raw_recordings(*study.raw_recordings))) {
     for (const auto& raw : study.raw_recordings->setups)
-      if (raw.setup == r.setup)
+      if (raw.setup == r.setup) {
+        r.file = study.file;
+        r.line = raw.line;
         config::require_measured_by_setup(r, study.file, raw.line, kinds,
                                           "[raw_recordings." + r.setup + "]");
+      }
     for (const auto& a : all)
       if (a.setup == r.setup && a.observable == r.observable)
         throw ConfigError(study.calibration->recordings.string() + ":" + std::to_string(a.line) +
@@ -82,13 +88,11 @@ std::vector<calibrate::Target> calibration_targets(
   const auto params = design_bounds(study);
   std::vector<std::string> names;
   for (const auto& p : params) names.push_back(p.name);
-  const std::string recordings_file =
-      study.calibration ? study.calibration->recordings.string() : study.file;
   std::vector<calibrate::Target> all;
   for (const auto& r : recordings) {
     const fs::path file = study_dir / "surrogates" / (r.setup + "." + r.observable + ".json");
     if (!fs::exists(file))
-      throw ConfigError(recordings_file + ":" + std::to_string(r.line) + ": " + r.setup + " " +
+      throw ConfigError(r.file + ":" + std::to_string(r.line) + ": " + r.setup + " " +
                         r.observable + " is recorded but has no surrogate (" + file.string() +
                         "); add it to [surrogate] observables and run `demcal fit`");
     const auto fit = load_surrogate(file);

@@ -28,6 +28,25 @@ std::string table_text(const toml::table& t, const char* key) {
   return s.str();
 }
 
+// Everything the calibration reads of the laboratory: the recordings CSV and, with
+// [raw_recordings], that table and every raw file's name and bytes, so that an edited
+// profile or m(t) file recalibrates instead of leaving the report stale.
+std::string recordings_text(const config::StudyConfig& study) {
+  std::string text;
+  if (!study.calibration->recordings.empty()) text = slurp(study.calibration->recordings);
+  if (!study.raw_recordings) return text;
+  text += table_text(study.resolved, "raw_recordings");
+  for (const config::RawSetupRecordings& setup : study.raw_recordings->setups)
+    for (const auto* files : {&setup.profiles, &setup.mass_series})
+      for (const fs::path& f : *files) {
+        text += '\n';
+        text += f.string();
+        text += '\n';
+        text += slurp(f);
+      }
+  return text;
+}
+
 }  // namespace
 
 fs::path run_study_pipeline(const StudyPipelineOptions& o, StudyPipelineSteps& steps,
@@ -63,7 +82,7 @@ fs::path run_study_pipeline(const StudyPipelineOptions& o, StudyPipelineSteps& s
   if (!study.calibration) return inspection;
   const std::string cal_digest = config::sha256_hex(fit_digest + surrogates_digest +
                                                     table_text(study.resolved, "calibration") +
-                                                    slurp(study.calibration->recordings));
+                                                    recordings_text(study));
   const fs::path report = dir / "reports" / "calibration" / "index.html";
   if (o.force || !stages.current("calibrate", cal_digest, report.parent_path()) ||
       !fs::exists(report)) {

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -114,6 +116,79 @@ TEST_F(StudyStages, ChangedRecordingsRecalibrateWithoutRefitting) {
   ASSERT_EQ(o.exit_code, 0) << o.output;
   EXPECT_TRUE(says(o, "fit: up to date")) << o.output;
   EXPECT_FALSE(says(o, "calibrate: up to date")) << o.output;
+  fs::remove_all(dir);
+}
+
+// A triangular heap profile (header position_m,height_m) of `angle_deg`, crest 20 mm at
+// x = 0, a reading every 0.5 mm over +-60 mm.
+std::string heap_profile_csv(double angle_deg) {
+  std::string text = "position_m,height_m\n";
+  const double slope = std::tan(angle_deg * 3.14159265358979323846 / 180.0);
+  for (int i = -120; i <= 120; ++i) {
+    const double x = 5e-4 * i;
+    text += std::to_string(x) + "," + std::to_string(std::max(0.0, 0.02 - slope * std::abs(x))) +
+            "\n";
+  }
+  return text;
+}
+
+// A laboratory with only raw series: no recordings CSV at all ([calibration] without
+// `recordings`), the AoR measured from two profiles. The calibration reads those files, so
+// an edited profile must recalibrate (it was left "up to date": the digest saw only the CSV).
+TEST_F(StudyStages, RawSeriesAloneAreTheRecordingsAndAnEditedOneRecalibrates) {
+  const fs::path dir = copy_of_reference("raw-series");
+  std::string study = slurp(dir / "study.toml");
+  const std::string csv_key = "recordings = \"recordings.csv\"";
+  const std::size_t at = study.find(csv_key);
+  ASSERT_NE(at, std::string::npos);
+  study.erase(at, csv_key.size());
+  study +=
+      "\n[raw_recordings.rectangular_container]\n"
+      "profiles = [\"raw/pile-1.csv\", \"raw/pile-2.csv\"]\n"
+      "grain_diameter_m = 5.0e-4\n"
+      "height_reading_error_m = 1.0e-4\n";
+  spit(dir / "study.toml", study);
+  fs::remove(dir / "recordings.csv");  // nothing may read it
+  fs::create_directories(dir / "raw");
+  spit(dir / "raw" / "pile-1.csv", heap_profile_csv(29.0));
+  spit(dir / "raw" / "pile-2.csv", heap_profile_csv(30.0));
+
+  const fs::path json = study_out(dir) / "reports" / "calibration" / "calibration.json";
+  const Outcome first = run_study(dir);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_TRUE(says(first, "fit: up to date")) << first.output;
+  EXPECT_FALSE(says(first, "calibrate: up to date")) << first.output;
+  const std::string calibrated = slurp(json);
+
+  const Outcome unchanged = run_study(dir);
+  ASSERT_EQ(unchanged.exit_code, 0) << unchanged.output;
+  EXPECT_TRUE(says(unchanged, "calibrate: up to date")) << unchanged.output;
+
+  spit(dir / "raw" / "pile-2.csv", heap_profile_csv(36.0));
+  const Outcome edited = run_study(dir);
+  ASSERT_EQ(edited.exit_code, 0) << edited.output;
+  EXPECT_FALSE(says(edited, "calibrate: up to date")) << edited.output;
+  EXPECT_NE(slurp(json), calibrated) << "the report must follow the edited profile";
+  fs::remove_all(dir);
+}
+
+// Without [raw_recordings] the CSV is the only source: leaving `recordings` out is refused
+// at the key, and the earlier outputs stay.
+TEST_F(StudyStages, NoRecordingsAtAllIsRefusedAtTheKey) {
+  const fs::path dir = copy_of_reference("no-recordings");
+  std::string study = slurp(dir / "study.toml");
+  const std::string csv_key = "recordings = \"recordings.csv\"";
+  const std::size_t at = study.find(csv_key);
+  ASSERT_NE(at, std::string::npos);
+  study.erase(at, csv_key.size());
+  spit(dir / "study.toml", study);
+  const fs::path json = study_out(dir) / "reports" / "calibration" / "calibration.json";
+  const std::string before = slurp(json);
+  const Outcome o = run_study(dir);
+  EXPECT_NE(o.exit_code, 0) << o.output;
+  EXPECT_TRUE(says(o, "study.toml")) << o.output;
+  EXPECT_TRUE(says(o, "recordings")) << o.output;
+  EXPECT_EQ(slurp(json), before);
   fs::remove_all(dir);
 }
 
