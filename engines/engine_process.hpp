@@ -27,7 +27,8 @@ namespace demcal::engines {
 struct ProcessOptions {
   std::string command_line;                // run by /bin/sh -c, in `working_directory`
   std::filesystem::path working_directory;  // must exist
-  std::filesystem::path output;            // stdout and stderr (truncated); relative: to the directory
+  std::filesystem::path output;            // stdout and stderr (truncated); a relative path is
+                                           // taken in `working_directory`
   std::optional<double> timeout_s;         // wall-clock limit; none when absent
   const std::atomic<bool>* cancel = nullptr;  // set from elsewhere to end the process
   // Called at each poll; it may throw to cancel: the group is ended and the

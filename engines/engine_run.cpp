@@ -61,7 +61,7 @@ EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
                    // LIGGGHTS 3.8 crashes writing its warnings with -screen none.
                    (deck.engine == "liggghts" ? "" : " -screen none");
   p.working_directory = directory;
-  p.output = directory / "engine.stdout";
+  p.output = "engine.stdout";  // in the directory (which may be relative to ours)
   p.timeout_s = launch.timeout_s;
   p.cancel = launch.cancel;
   p.poll = launch.poll;
@@ -78,7 +78,7 @@ EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
                              " (launch line \"" + launch.command + "\", in " +
                              directory.string() + "): " + outcome.describe() +
                              (error.empty() ? "" : ": " + error) + "; see " + r.log.string() +
-                             " and " + p.output.string());
+                             " and " + (directory / p.output).string());
   }
   if (!std::filesystem::exists(directory / deck.final_dump_name))
     throw std::runtime_error(deck.engine + " run wrote no " + deck.final_dump_name + "; see " +

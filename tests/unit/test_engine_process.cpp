@@ -108,6 +108,18 @@ TEST(EngineProcess, CleanRunReportsTheVersionAndTheOutput) {
   EXPECT_LT(r.wall_time_s, 10.0);
 }
 
+TEST(EngineProcess, ARelativeRunDirectoryWorks) {
+  // As `demcal simulate --output out` gives it: relative to demcal's working directory.
+  Fixture f = make("relative");
+  const fs::path relative = "demcal-engine-process-relative-" + std::to_string(::getpid());
+  fs::remove_all(relative);
+  const EngineRunResult r = run_engine(deck_doing("ok"), f.launch, relative / "run");
+  EXPECT_TRUE(fs::exists(relative / "run" / "final.dump"));
+  EXPECT_TRUE(fs::exists(relative / "run" / "engine.stdout"));
+  EXPECT_EQ(r.engine_version, "LAMMPS (fake engine for the launcher test)");
+  fs::remove_all(relative);
+}
+
 TEST(EngineProcess, NonZeroExitReportsTheLastErrorLine) {
   Fixture f = make("fail");
   const std::string e = error_of(deck_doing("fail"), f.launch, f.dir / "run");
@@ -116,6 +128,7 @@ TEST(EngineProcess, NonZeroExitReportsTheLastErrorLine) {
   EXPECT_NE(e.find("ERROR: Lost atoms: original 10 current 9 (fake)"), std::string::npos) << e;
   EXPECT_NE(e.find(f.launch.command), std::string::npos) << e;
   EXPECT_NE(e.find((f.dir / "run" / "log.engine").string()), std::string::npos) << e;
+  EXPECT_NE(e.find((f.dir / "run" / "engine.stdout").string()), std::string::npos) << e;
 }
 
 TEST(EngineProcess, DeathBySignalIsReportedByName) {
