@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <csignal>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -99,6 +100,31 @@ class InterruptGuard {
   bool installed_[std::size(kCaught)] = {};
 };
 
+// Whether a process of group `group` still runs. Its members that ended but
+// are not yet reaped by init (zombies) do not count: init may take a while.
+bool group_runs(pid_t group) {
+  if (::kill(-group, 0) == -1 && errno == ESRCH) return false;
+  std::error_code ec;
+  std::filesystem::directory_iterator proc("/proc", ec);
+  if (ec) return true;  // no /proc: only kill() can tell, and it says some are left
+  for (const auto& entry : proc) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "stat");
+    std::string line;
+    if (!std::getline(in, line)) continue;
+    // pid (comm) state ppid pgrp ...: comm may hold spaces and parentheses.
+    const std::size_t close = line.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream rest(line.substr(close + 1));
+    char state = 0;
+    long ppid = 0, pgrp = 0;
+    if (rest >> state >> ppid >> pgrp && pgrp == group && state != 'Z' && state != 'X')
+      return true;
+  }
+  return false;
+}
+
 // SIGTERM to the whole group, then SIGKILL after the grace period; the leader reaped.
 void end_group(pid_t leader, double grace_period_s, int* status) {
   ::kill(-leader, SIGTERM);
@@ -107,7 +133,7 @@ void end_group(pid_t leader, double grace_period_s, int* status) {
   while (true) {
     if (!reaped && ::waitpid(leader, status, WNOHANG) == leader) reaped = true;
     // The group is gone once its last process is (the leader reaped first).
-    if (reaped && ::kill(-leader, 0) == -1 && errno == ESRCH) return;
+    if (reaped && !group_runs(leader)) return;
     if (seconds_since(start) >= grace_period_s) break;
     sleep_s(0.02);
   }
