@@ -96,7 +96,7 @@ class InterruptGuard {
   std::condition_variable ended_;
   int active_ = 0;
   unsigned long epoch_ = 0;
-  struct sigaction old_[std::size(kCaught)] {};
+  struct sigaction old_[std::size(kCaught)]{};
   bool installed_[std::size(kCaught)] = {};
 };
 
@@ -119,8 +119,7 @@ bool group_runs(pid_t group) {
     std::istringstream rest(line.substr(close + 1));
     char state = 0;
     long ppid = 0, pgrp = 0;
-    if (rest >> state >> ppid >> pgrp && pgrp == group && state != 'Z' && state != 'X')
-      return true;
+    if (rest >> state >> ppid >> pgrp && pgrp == group && state != 'Z' && state != 'X') return true;
   }
   return false;
 }
@@ -185,8 +184,8 @@ pid_t spawn(const ProcessOptions& o) {
   ::sigaddset(&defaults, SIGQUIT);
   rc |= ::posix_spawnattr_setsigmask(&s.attr, &none);
   rc |= ::posix_spawnattr_setsigdefault(&s.attr, &defaults);
-  rc |= ::posix_spawnattr_setflags(&s.attr,
-                                   POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  rc |= ::posix_spawnattr_setflags(
+      &s.attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   if (rc != 0) throw std::runtime_error("engine launch: cannot prepare the spawn of /bin/sh");
   std::string line = o.command_line;
   char sh[] = "sh";
@@ -205,24 +204,42 @@ pid_t spawn(const ProcessOptions& o) {
 
 std::string signal_name(int signal) {
   switch (signal) {
-    case SIGHUP: return "SIGHUP";
-    case SIGINT: return "SIGINT";
-    case SIGQUIT: return "SIGQUIT";
-    case SIGILL: return "SIGILL";
-    case SIGTRAP: return "SIGTRAP";
-    case SIGABRT: return "SIGABRT";
-    case SIGBUS: return "SIGBUS";
-    case SIGFPE: return "SIGFPE";
-    case SIGKILL: return "SIGKILL";
-    case SIGUSR1: return "SIGUSR1";
-    case SIGSEGV: return "SIGSEGV";
-    case SIGUSR2: return "SIGUSR2";
-    case SIGPIPE: return "SIGPIPE";
-    case SIGALRM: return "SIGALRM";
-    case SIGTERM: return "SIGTERM";
-    case SIGXCPU: return "SIGXCPU";
-    case SIGXFSZ: return "SIGXFSZ";
-    default: return "signal " + std::to_string(signal);
+    case SIGHUP:
+      return "SIGHUP";
+    case SIGINT:
+      return "SIGINT";
+    case SIGQUIT:
+      return "SIGQUIT";
+    case SIGILL:
+      return "SIGILL";
+    case SIGTRAP:
+      return "SIGTRAP";
+    case SIGABRT:
+      return "SIGABRT";
+    case SIGBUS:
+      return "SIGBUS";
+    case SIGFPE:
+      return "SIGFPE";
+    case SIGKILL:
+      return "SIGKILL";
+    case SIGUSR1:
+      return "SIGUSR1";
+    case SIGSEGV:
+      return "SIGSEGV";
+    case SIGUSR2:
+      return "SIGUSR2";
+    case SIGPIPE:
+      return "SIGPIPE";
+    case SIGALRM:
+      return "SIGALRM";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGXCPU:
+      return "SIGXCPU";
+    case SIGXFSZ:
+      return "SIGXFSZ";
+    default:
+      return "signal " + std::to_string(signal);
   }
 }
 
@@ -235,9 +252,11 @@ std::string ProcessOutcome::describe() const {
         s += " (the shell's code for " + signal_name(exit_code - 128) + ")";
       return s;
     }
-    case Ended::signalled: return "killed by " + signal_name(signal);
+    case Ended::signalled:
+      return "killed by " + signal_name(signal);
     case Ended::timed_out:
-    case Ended::cancelled: return reason;
+    case Ended::cancelled:
+      return reason;
   }
   return reason;
 }

@@ -25,29 +25,29 @@
 namespace demcal::engines {
 
 struct ProcessOptions {
-  std::string command_line;                // run by /bin/sh -c, in `working_directory`
-  std::filesystem::path working_directory;  // must exist
-  std::filesystem::path output;            // stdout and stderr (truncated); a relative path is
-                                           // taken in `working_directory`
-  std::optional<double> timeout_s;         // wall-clock limit; none when absent
+  std::string command_line;                   // run by /bin/sh -c, in `working_directory`
+  std::filesystem::path working_directory;    // must exist
+  std::filesystem::path output;               // stdout and stderr (truncated); a relative path is
+                                              // taken in `working_directory`
+  std::optional<double> timeout_s;            // wall-clock limit; none when absent
   const std::atomic<bool>* cancel = nullptr;  // set from elsewhere to end the process
   // Called at each poll; it may throw to cancel: the group is ended and the
   // exception passes through unchanged.
   std::function<void()> poll;
-  double grace_period_s = 5.0;   // between SIGTERM and SIGKILL
+  double grace_period_s = 5.0;  // between SIGTERM and SIGKILL
   double poll_interval_s = 0.05;
 };
 
 struct ProcessOutcome {
   enum class Ended { exited, signalled, timed_out, cancelled };
   Ended ended = Ended::exited;
-  int exit_code = 0;     // when exited
-  int signal = 0;        // when signalled (or the signal that interrupted demcal)
+  int exit_code = 0;  // when exited
+  int signal = 0;     // when signalled (or the signal that interrupted demcal)
   double wall_time_s = 0.0;
-  std::string reason;    // "cancelled", "interrupted by SIGINT", "timed out after 2 s"
+  std::string reason;  // "cancelled", "interrupted by SIGINT", "timed out after 2 s"
 
   bool succeeded() const { return ended == Ended::exited && exit_code == 0; }
-  // "exited with status 1", "killed by signal SIGSEGV", "timed out after 2 s", ...
+  // "exited with status 1", "killed by SIGSEGV", "timed out after 2 s", ...
   std::string describe() const;
 };
 

@@ -75,10 +75,9 @@ EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
                      outcome.ended == ProcessOutcome::Ended::cancelled;
     const std::string error = cut ? "" : last_error_line(r.log);
     throw std::runtime_error(deck.engine + " run " + (cut ? "stopped" : "failed") +
-                             " (launch line \"" + launch.command + "\", in " +
-                             directory.string() + "): " + outcome.describe() +
-                             (error.empty() ? "" : ": " + error) + "; see " + r.log.string() +
-                             " and " + (directory / p.output).string());
+                             " (launch line \"" + launch.command + "\", in " + directory.string() +
+                             "): " + outcome.describe() + (error.empty() ? "" : ": " + error) +
+                             "; see " + r.log.string() + " and " + (directory / p.output).string());
   }
   if (!std::filesystem::exists(directory / deck.final_dump_name))
     throw std::runtime_error(deck.engine + " run wrote no " + deck.final_dump_name + "; see " +

@@ -115,9 +115,9 @@ std::string liggghts_script_with_card(const std::string& deck, const std::string
   bool included = false;
   for (std::string line; std::getline(in, line);) {
     const std::vector<std::string> w = words(line);
-    const bool material = !w.empty() && (w[0] == "hard_particles" || w[0] == "pair_style" ||
-                                         w[0] == "pair_coeff" ||
-                                         (w[0] == "fix" && w.size() > 3 && w[3] == "property/global"));
+    const bool material =
+        !w.empty() && (w[0] == "hard_particles" || w[0] == "pair_style" || w[0] == "pair_coeff" ||
+                       (w[0] == "fix" && w.size() > 3 && w[3] == "property/global"));
     if (!material) {
       out << line << "\n";
       continue;
@@ -206,8 +206,8 @@ void card_against_deck(const CardCase& c) {
     const fs::path card_dir = work / ("card-" + std::to_string(seed));
     wall_s += run_engine(with_card, launch, card_dir).wall_time_s;
     card_aor.push_back(angle(with_card, card_dir));
-    std::cout << c.engine << " seed " << seed << ": AoR deck " << deck_aor.back()
-              << " deg, card " << card_aor.back() << " deg\n";
+    std::cout << c.engine << " seed " << seed << ": AoR deck " << deck_aor.back() << " deg, card "
+              << card_aor.back() << " deg\n";
   }
   const double n = static_cast<double>(seeds.size());
   const double difference = mean(card_aor) - mean(deck_aor);

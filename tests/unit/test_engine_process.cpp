@@ -77,7 +77,8 @@ bool gone(pid_t pid) {
     std::string line;
     std::getline(stat, line);
     const auto close = line.rfind(')');
-    if (close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'Z') return true;
+    if (close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'Z')
+      return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return false;
@@ -191,7 +192,8 @@ TEST(EngineProcess, AnExceptionFromThePollPassesThroughAfterTheGroupIsEnded) {
   Fixture f = make("poll");
   const auto t0 = std::chrono::steady_clock::now();
   f.launch.poll = [&] {
-    if (std::chrono::steady_clock::now() - t0 > std::chrono::milliseconds(300)) throw StopRequested{};
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::milliseconds(300))
+      throw StopRequested{};
   };
   EXPECT_THROW(run_engine(deck_doing("sleep"), f.launch, f.dir / "run"), StopRequested);
   const pid_t child = child_pid(f.dir / "run");
@@ -205,7 +207,8 @@ extern "C" void count_sigint(int) { g_test_handler_calls.fetch_add(1); }
 TEST(EngineProcess, SigintEndsTheGroupThenReachesTheProcessOwnDisposition) {
   // This process's SIGINT disposition is one that does not end it, so that the
   // launcher's raising the signal again can be observed here.
-  struct sigaction mine {}, before {};
+  struct sigaction mine {
+  }, before{};
   mine.sa_handler = count_sigint;
   ::sigemptyset(&mine.sa_mask);
   ASSERT_EQ(::sigaction(SIGINT, &mine, &before), 0);
