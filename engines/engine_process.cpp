@@ -64,9 +64,18 @@ class InterruptGuard {
   }
 
   // After a launch that ran to its end (or was cancelled otherwise).
+  // A signal caught after the process ended (or before it started) is not
+  // swallowed: the last one out raises it once demcal's disposition is back.
   void leave() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (--active_ == 0) restore_locked();
+    int pending = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (--active_ == 0) {
+        restore_locked();
+        pending = g_interrupt.exchange(0);
+      }
+    }
+    if (pending != 0) ::raise(pending);
   }
 
   // After a launch ended by `signal`: the last one out restores demcal's own
