@@ -46,19 +46,23 @@ case "$(cat "$deck")" in
 esac
 )SH";
 
+// A scratch folder with the fake engine in it, removed when the test ends.
 struct Fixture {
+  explicit Fixture(const std::string& name) : dir(testing::fresh_dir("engine-process", name)) {
+    testing::spit(dir / "fake_engine.sh", kFakeEngine);
+    launch.command = "sh '" + (dir / "fake_engine.sh").string() + "'";
+    launch.grace_period_s = 1.0;
+  }
+  ~Fixture() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  Fixture(const Fixture&) = delete;
+  Fixture& operator=(const Fixture&) = delete;
+
   fs::path dir;
   EngineLaunch launch;
 };
-
-Fixture make(const std::string& name) {
-  Fixture f;
-  f.dir = testing::fresh_dir("engine-process", name);
-  testing::spit(f.dir / "fake_engine.sh", kFakeEngine);
-  f.launch.command = "sh '" + (f.dir / "fake_engine.sh").string() + "'";
-  f.launch.grace_period_s = 1.0;
-  return f;
-}
 
 Deck deck_doing(const std::string& what) {
   Deck d;
@@ -101,7 +105,7 @@ std::string error_of(const Deck& deck, const EngineLaunch& launch, const fs::pat
 }
 
 TEST(EngineProcess, CleanRunReportsTheVersionAndTheOutput) {
-  Fixture f = make("clean");
+  Fixture f("clean");
   const EngineRunResult r = run_engine(deck_doing("ok"), f.launch, f.dir / "run");
   EXPECT_EQ(r.engine_version, "LAMMPS (fake engine for the launcher test)");
   EXPECT_TRUE(fs::exists(f.dir / "run" / "final.dump"));
@@ -111,7 +115,7 @@ TEST(EngineProcess, CleanRunReportsTheVersionAndTheOutput) {
 
 TEST(EngineProcess, ARelativeRunDirectoryWorks) {
   // As `demcal simulate --output out` gives it: relative to demcal's working directory.
-  Fixture f = make("relative");
+  Fixture f("relative");
   const fs::path relative = "demcal-engine-process-relative-" + std::to_string(::getpid());
   fs::remove_all(relative);
   const EngineRunResult r = run_engine(deck_doing("ok"), f.launch, relative / "run");
@@ -122,7 +126,7 @@ TEST(EngineProcess, ARelativeRunDirectoryWorks) {
 }
 
 TEST(EngineProcess, NonZeroExitReportsTheLastErrorLine) {
-  Fixture f = make("fail");
+  Fixture f("fail");
   const std::string e = error_of(deck_doing("fail"), f.launch, f.dir / "run");
   EXPECT_NE(e.find("lammps run failed"), std::string::npos) << e;
   EXPECT_NE(e.find("exited with status 3"), std::string::npos) << e;
@@ -133,14 +137,14 @@ TEST(EngineProcess, NonZeroExitReportsTheLastErrorLine) {
 }
 
 TEST(EngineProcess, DeathBySignalIsReportedByName) {
-  Fixture f = make("crash");
+  Fixture f("crash");
   const std::string e = error_of(deck_doing("crash"), f.launch, f.dir / "run");
   // dash reports its child's death as 128 + N; a shell that execs the line dies itself.
   EXPECT_NE(e.find("SIGSEGV"), std::string::npos) << e;
 }
 
 TEST(EngineProcess, TimeoutEndsTheEngineAndItsChild) {
-  Fixture f = make("timeout");
+  Fixture f("timeout");
   f.launch.timeout_s = 0.5;
   const auto t0 = std::chrono::steady_clock::now();
   const std::string e = error_of(deck_doing("sleep"), f.launch, f.dir / "run");
@@ -155,7 +159,7 @@ TEST(EngineProcess, TimeoutEndsTheEngineAndItsChild) {
 }
 
 TEST(EngineProcess, AGroupThatIgnoresSigtermIsKilledAfterTheGracePeriod) {
-  Fixture f = make("stubborn");
+  Fixture f("stubborn");
   f.launch.timeout_s = 0.3;
   f.launch.grace_period_s = 0.5;
   const auto t0 = std::chrono::steady_clock::now();
@@ -170,7 +174,7 @@ TEST(EngineProcess, AGroupThatIgnoresSigtermIsKilledAfterTheGracePeriod) {
 }
 
 TEST(EngineProcess, CancelFlagSetByAnotherThreadEndsTheRun) {
-  Fixture f = make("cancel");
+  Fixture f("cancel");
   std::atomic<bool> cancel{false};
   f.launch.cancel = &cancel;
   std::thread canceller([&] {
@@ -189,7 +193,7 @@ TEST(EngineProcess, CancelFlagSetByAnotherThreadEndsTheRun) {
 struct StopRequested {};  // not a std::exception, as the design runner's RunCancelled
 
 TEST(EngineProcess, AnExceptionFromThePollPassesThroughAfterTheGroupIsEnded) {
-  Fixture f = make("poll");
+  Fixture f("poll");
   const auto t0 = std::chrono::steady_clock::now();
   f.launch.poll = [&] {
     if (std::chrono::steady_clock::now() - t0 > std::chrono::milliseconds(300))
@@ -213,7 +217,7 @@ TEST(EngineProcess, SigintEndsTheGroupThenReachesTheProcessOwnDisposition) {
   ::sigemptyset(&mine.sa_mask);
   ASSERT_EQ(::sigaction(SIGINT, &mine, &before), 0);
   g_test_handler_calls = 0;
-  Fixture f = make("sigint");
+  Fixture f("sigint");
   std::thread interrupter([] {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     ::kill(::getpid(), SIGINT);
