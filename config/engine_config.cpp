@@ -21,8 +21,9 @@ std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& 
   c.kind = t.choice_or("kind", known_engine_kinds(), "demcal");
   if (c.is_demcal()) {
     // demcal runs inside this process: a launch line would be silently ignored.
-    if (t.has("launch"))
-      t.fail("launch", "is for kind = \"liggghts\" or \"lammps\" only (demcal runs in process)");
+    for (const char* key : {"launch", "timeout_s"})
+      if (t.has(key))
+        t.fail(key, "is for kind = \"liggghts\" or \"lammps\" only (demcal runs in process)");
   } else {
     c.launch = t.string_or("launch", c.kind == "lammps" ? "lmp" : "liggghts");
     const bool blank = std::all_of(c.launch.begin(), c.launch.end(),
@@ -39,6 +40,9 @@ std::optional<EngineConfig> read_engine(reader::Table& root, const std::string& 
     if (std::string(";&|").find(c.launch[last]) != std::string::npos)
       t.fail("launch", "expected a command that takes \"-in <deck>\" after it; it ends in '" +
                            std::string(1, c.launch[last]) + "'");
+    // Absent: no limit, and nothing written into the resolved config.
+    if (t.has("timeout_s"))
+      c.timeout_s = t.number("timeout_s", reader::Range{0.0, reader::kInf, true, false});
   }
   // Substitutions only the LAMMPS mapping makes (engines/parameter_mapping.hpp): on another
   // kind they would be silently ignored.

@@ -24,6 +24,13 @@
 //                                     #   29Sep2021's wall JKR fails; engines/README.md)
 //   Both change the engine's run, so when true they are in its run key; the mapping
 //   record of every run lists each substitution made.
+//   timeout_s = 3600.0                # opt, liggghts/lammps only, s, > 0 (default: none):
+//                                     #   wall-clock limit of one engine run; the engine's
+//                                     #   processes are then ended (SIGTERM, SIGKILL after
+//                                     #   5 s) and the run is stored as failed ("timed out
+//                                     #   after N s"). Not in the run key: it does not change
+//                                     #   what a run that finishes computes, and a run that
+//                                     #   timed out is redone by --retry-failed with a larger one.
 
 #include "config/toml_reader.hpp"
 
@@ -42,6 +49,7 @@ struct EngineConfig {
   std::string launch;  // empty for demcal
   bool allow_rolling_substitute = false;  // engines::MappingOptions of the same names
   bool allow_dry_walls = false;
+  std::optional<double> timeout_s;  // s; none when absent
   std::size_t line = 0;
   std::string file;  // the study file, for messages
 

@@ -1,12 +1,13 @@
 #include "engines/engine_run.hpp"
 
+#include "engines/engine_process.hpp"
+
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 namespace demcal::engines {
@@ -54,20 +55,29 @@ EngineRunResult run_engine(const Deck& deck, const EngineLaunch& launch,
   EngineRunResult r;
   r.directory = directory;
   r.log = directory / launch.log_name;
-  const std::string cmd = "cd " + quoted(directory.string()) + " && " + launch.command + " -in " +
-                          quoted(deck.script_name) + " -log " + quoted(launch.log_name) +
-                          // LIGGGHTS 3.8 crashes writing its warnings with -screen none.
-                          (deck.engine == "liggghts" ? "" : " -screen none") +
-                          " > engine.stdout 2>&1";
-  const auto start = std::chrono::steady_clock::now();
-  const int status = std::system(cmd.c_str());
-  r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ProcessOptions p;
+  p.command_line = launch.command + " -in " + quoted(deck.script_name) + " -log " +
+                   quoted(launch.log_name) +
+                   // LIGGGHTS 3.8 crashes writing its warnings with -screen none.
+                   (deck.engine == "liggghts" ? "" : " -screen none");
+  p.working_directory = directory;
+  p.output = "engine.stdout";  // in the directory (which may be relative to ours)
+  p.timeout_s = launch.timeout_s;
+  p.cancel = launch.cancel;
+  p.poll = launch.poll;
+  p.grace_period_s = launch.grace_period_s;
+  const ProcessOutcome outcome = run_process(p);
+  r.wall_time_s = outcome.wall_time_s;
   r.engine_version = engine_version_from_log(r.log);
-  const bool exited_ok = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (!exited_ok) {
-    const std::string error = last_error_line(r.log);
-    throw std::runtime_error(deck.engine + " run failed (" + cmd + ")" +
-                             (error.empty() ? "" : ": " + error) + "; see " + r.log.string());
+  if (!outcome.succeeded()) {
+    // A run cut short has no ERROR of its own to report: its reason is the cut.
+    const bool cut = outcome.ended == ProcessOutcome::Ended::timed_out ||
+                     outcome.ended == ProcessOutcome::Ended::cancelled;
+    const std::string error = cut ? "" : last_error_line(r.log);
+    throw std::runtime_error(deck.engine + " run " + (cut ? "stopped" : "failed") +
+                             " (launch line \"" + launch.command + "\", in " + directory.string() +
+                             "): " + outcome.describe() + (error.empty() ? "" : ": " + error) +
+                             "; see " + r.log.string() + " and " + (directory / p.output).string());
   }
   if (!std::filesystem::exists(directory / deck.final_dump_name))
     throw std::runtime_error(deck.engine + " run wrote no " + deck.final_dump_name + "; see " +

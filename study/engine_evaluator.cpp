@@ -144,13 +144,16 @@ EngineEvaluator::EngineEvaluator(engines::Deck deck, std::string launch,
 
 std::optional<EngineEvaluator> EngineEvaluator::for_run(const StudyConfig& study,
                                                         const StudyApparatus& apparatus,
-                                                        std::filesystem::path directory) {
+                                                        std::filesystem::path directory,
+                                                        std::function<void()> poll) {
   const config::EngineConfig* engine = other_engine(study);
   if (engine == nullptr) return std::nullopt;
   engines::Deck deck = engine_deck(study, apparatus);
   const double dt = deck.record.at("layout").value("time_step_s", 0.0);
   EngineEvaluator e(std::move(deck), engine->launch, std::move(directory), dt);
   e.version_ = engine_version_of(engine->kind, engine->launch);  // asked already by the run key
+  e.poll_ = std::move(poll);
+  e.timeout_s_ = engine->timeout_s;
   return e;
 }
 
@@ -159,6 +162,8 @@ dem::ApparatusResult EngineEvaluator::run() {
   std::filesystem::remove_all(directory_);
   engines::EngineLaunch launch;
   launch.command = launch_;
+  launch.poll = poll_;
+  launch.timeout_s = timeout_s_;
   ran_ = engines::run_engine(deck_, launch, directory_);
   dem::ApparatusResult result = engines::measure_engine_run(deck_, directory_);
   result.details["engine_wall_time_s"] = ran_->wall_time_s;
@@ -173,6 +178,7 @@ void EngineEvaluator::describe(nlohmann::json& record) const {
       {"directory", directory_.string()},
       {"deck", deck_.script_name},
       {"deck_written_by", "demcal " + engine_version()}};
+  if (timeout_s_) record["engine"]["timeout_s"] = *timeout_s_;
   record["engine_deck"] = deck_.record;
   record["time_step_s"] = time_step_s_;
   record["contact_law"] = "the mapping in engine_deck.mapping (engines/parameter_mapping.hpp)";

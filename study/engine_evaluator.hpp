@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -58,10 +59,13 @@ dem::ModelReduction apparatus_reduction(const config::StudyApparatus& apparatus)
 class EngineEvaluator final : public PreparedRun {
  public:
   // nullopt when demcal's own engine runs the study; `directory` is where the
-  // deck is written and run (emptied first).
+  // deck is written and run (emptied first). `poll` is called while the engine
+  // runs and may throw to cancel it (engines::EngineLaunch::poll); it must outlive
+  // the evaluator.
   static std::optional<EngineEvaluator> for_run(const config::StudyConfig& study,
                                                 const config::StudyApparatus& apparatus,
-                                                std::filesystem::path directory);
+                                                std::filesystem::path directory,
+                                                std::function<void()> poll = {});
 
   // Writes the deck, runs the engine, reads and measures its output. Throws
   // std::runtime_error (the engine's ERROR line, a malformed dump) when it fails.
@@ -80,6 +84,8 @@ class EngineEvaluator final : public PreparedRun {
   std::filesystem::path directory_;
   double time_step_s_ = 0.0;
   std::string version_;
+  std::function<void()> poll_;
+  std::optional<double> timeout_s_;  // [engine] timeout_s
   std::optional<engines::EngineRunResult> ran_;
 };
 

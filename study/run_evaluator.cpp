@@ -22,8 +22,13 @@ class DemRun final : public PreparedRun {
 }  // namespace
 
 std::unique_ptr<PreparedRun> DemRunEvaluator::prepare(const RunRequest& r) const {
-  std::optional<EngineEvaluator> engine =
-      EngineEvaluator::for_run(r.study, r.apparatus, r.work_directory);
+  // The engine is polled with the runner's observer, so that a stop request
+  // (which it throws) ends the engine's processes too. No phase of demcal's:
+  // the record's "phase" stays empty for an engine run, as before.
+  const dem::StepObserver& observe = r.observe;
+  const dem::Simulation& sim = r.apparatus.apparatus->simulation();
+  std::optional<EngineEvaluator> engine = EngineEvaluator::for_run(
+      r.study, r.apparatus, r.work_directory, [&observe, &sim] { observe(sim, ""); });
   if (engine) return std::make_unique<EngineEvaluator>(std::move(*engine));
   return std::make_unique<DemRun>(*r.apparatus.apparatus, r.observe);
 }
