@@ -1,6 +1,7 @@
 // [protocol] particle_order: absent or "insertion" leaves the quick Sandglass's
 // run key as it was (not written in), "spatial" reaches the engine's options and
 // gives the runs a key of their own, an unknown name is refused by key.
+#include "config/simulation_config.hpp"
 #include "config/study_config.hpp"
 #include "study/run_store.hpp"
 
@@ -44,6 +45,23 @@ TEST(ParticleOrderConfig, UnknownNameIsRefusedByKey) {
     EXPECT_NE(what.find("protocol.particle_order"), std::string::npos) << what;
     EXPECT_NE(what.find("\"spatial\""), std::string::npos) << what;
   }
+}
+
+// The plain simulation config's [simulation] particle_order, the same way.
+TEST(ParticleOrderConfig, SimulationConfigKey) {
+  const std::string pile = std::string(DEMCAL_SOURCE_DIR) + "/studies/poured-pile/study.toml";
+  const config::SimulationConfig base = config::load_simulation_config(pile, {});
+  EXPECT_EQ(base.simulation->options().particle_order, dem::ParticleOrder::kInsertion);
+  EXPECT_FALSE(base.resolved.at_path("simulation.particle_order"));
+  const config::SimulationConfig insertion =
+      config::load_simulation_config(pile, {"simulation.particle_order=\"insertion\""});
+  EXPECT_FALSE(insertion.resolved.at_path("simulation.particle_order"));
+  const config::SimulationConfig spatial =
+      config::load_simulation_config(pile, {"simulation.particle_order=spatial"});
+  EXPECT_EQ(spatial.simulation->options().particle_order, dem::ParticleOrder::kSpatial);
+  EXPECT_TRUE(spatial.resolved.at_path("simulation.particle_order"));
+  EXPECT_THROW(config::load_simulation_config(pile, {"simulation.particle_order=bogus"}),
+               config::ConfigError);
 }
 
 }  // namespace
