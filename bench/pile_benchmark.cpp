@@ -139,6 +139,7 @@ int main(int argc, char** argv) {
   double rest_speed = 2e-3;
   double max_time = 3.0;  // pile.in's maxsteps 600000 at dt 5e-6
   std::string dump;
+  std::string order = "insertion";
   app.add_option("--particles,-N", particles, "number of particles")->check(CLI::PositiveNumber);
   app.add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "pour: whole run to rest; static: fixed-N steps on the settled pile")
@@ -151,6 +152,10 @@ int main(int argc, char** argv) {
   app.add_option("--rest-speed", rest_speed, "at rest when the rms speed falls below this [m/s]");
   app.add_option("--max-time", max_time, "give up pouring/settling after this simulated time [s]");
   app.add_option("--dump", dump, "write the final pile as 'x z radius' (for tools/aor.py)");
+  app.add_option("--particle-order", order,
+                 "how the engine stores particles: insertion, or spatial (re-sorted by neighbour "
+                 "cell at every neighbour build; dem/particle_order.hpp)")
+      ->check(CLI::IsMember(demcal::dem::particle_order_names()));
   CLI11_PARSE(app, argc, argv);
 
   // OpenMP's default thread count is set to --threads, so that T threads means T
@@ -167,6 +172,7 @@ int main(int argc, char** argv) {
     o.seed = seed;
     o.sliding_friction = mus;
     o.rolling_friction = mur;
+    o.particle_order = demcal::dem::parse_particle_order(order);
     auto sim = demcal::dem::make_poured_slab_pile(o);
     using clock = std::chrono::steady_clock;
 
@@ -184,11 +190,12 @@ int main(int argc, char** argv) {
       const double rate = ps / loop_s;
       std::printf("BENCH demcal mode %s threads %d N %zu steps %lld particle_steps %.6e loop_s %.3f "
                   "PS/s %.4e PS/s/core %.4e maxRSS_MiB %.1f version %s contacts_per_particle %.3f "
-                  "listed_pairs_per_particle %.3f\n",
+                  "listed_pairs_per_particle %.3f order %s\n",
                   what, threads, sim->particles().size(), static_cast<long long>(steps), ps, loop_s, rate,
                   rate / threads, peak_rss_mib(), DEMCAL_VERSION,
                   static_cast<double>(sim->contact_count()) / static_cast<double>(sim->particles().size()),
-                  static_cast<double>(sim->neighbor_pair_count()) / static_cast<double>(sim->particles().size()));
+                  static_cast<double>(sim->neighbor_pair_count()) / static_cast<double>(sim->particles().size()),
+                  order.c_str());
       std::fflush(stdout);
     };
     // The pour phase is the whole pour-mode measurement; static mode reports it

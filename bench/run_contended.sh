@@ -10,9 +10,12 @@
 # 2 threads, so a before/after comparison is measured under the same load.
 # Environment (defaults): R=3  N=3000  STATIC_STEPS=10000  RUN_TIMEOUT=600 (s)
 #   DEMCAL_BENCH=<repo>/build-bench/bench/demcal_bench_pile  DEMCAL_BENCH_BEFORE=(unset)
+#   ORDERS="insertion"   particle orders of demcal (--particle-order) to run, each at 1 and 2
+#                        threads within every repetition, e.g. ORDERS="insertion spatial"
+#   LAMMPS=1             0 leaves LAMMPS out (demcal against itself only; lmp not needed)
 # Each line of the log (bench/logs/<date>_contended_<machine>.log) holds the engine, the
-# threads or ranks, PS/s/core of the static phase, the wall time of the whole run and the
-# load average; a run that exceeds RUN_TIMEOUT is logged as TIMEOUT.
+# threads or ranks, the particle order, PS/s/core of the static phase, the wall time and the
+# user and system CPU seconds of the whole run (/usr/bin/time) and the load average; a run that exceeds RUN_TIMEOUT is logged as TIMEOUT.
 set -euo pipefail
 
 REPO=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,8 +26,10 @@ STATIC_STEPS=${STATIC_STEPS:-10000}
 RUN_TIMEOUT=${RUN_TIMEOUT:-600}
 BIN=${DEMCAL_BENCH:-$REPO/build-bench/bench/demcal_bench_pile}
 BEFORE=${DEMCAL_BENCH_BEFORE:-}
+ORDERS=${ORDERS:-insertion}
+LAMMPS=${LAMMPS:-1}
 [ -x "$BIN" ] || { echo "no demcal benchmark at $BIN" >&2; exit 1; }
-command -v lmp >/dev/null || { echo "lmp (LAMMPS) not found" >&2; exit 1; }
+[ "$LAMMPS" = 0 ] || command -v lmp >/dev/null || { echo "lmp (LAMMPS) not found" >&2; exit 1; }
 
 PEERS=$(mktemp -d /tmp/demcal_peers.XXXXXX)
 cp -r "$SRC_PEERS"/. "$PEERS"/
@@ -38,25 +43,31 @@ VERSION=$("$BIN" --version 2>/dev/null | tail -1 || echo unknown)
 echo "# $(date -Is) demcal $VERSION N $N static_steps $STATIC_STEPS; busy loop: one shell 'while :; do :; done'" | tee -a "$LOG"
 
 # LAMMPS's own settled pile, made once before the busy loop starts.
-(cd "$PEERS/lammps" && ./run_pile.sh 0.5 0.1 1 "$N" > /dev/null 2>&1)
-DUMP=$(ls "$PEERS"/lammps/runs/pile_N${N}_*np1*.txt | head -1)
+if [ "$LAMMPS" != 0 ]; then
+  (cd "$PEERS/lammps" && ./run_pile.sh 0.5 0.1 1 "$N" > /dev/null 2>&1)
+  DUMP=$(ls "$PEERS"/lammps/runs/pile_N${N}_*np1*.txt | head -1)
+fi
 
 bash -c 'while :; do :; done' &
 BUSY_PID=$!
 trap 'kill $BUSY_PID 2>/dev/null || true' EXIT
 
-run_demcal() {  # label binary threads
+run_demcal() {  # label binary threads [order]
   local out; out=$(mktemp)
+  local cpu; cpu=$(mktemp)
+  local order=${4:-insertion}
+  local args=(--particles "$N" --threads "$3" --mode static --static-steps "$STATIC_STEPS")
+  [ "$order" = insertion ] || args+=(--particle-order "$order")
   local t0; t0=$(date +%s.%N)
-  if timeout "$RUN_TIMEOUT" "$2" --particles "$N" --threads "$3" --mode static --static-steps "$STATIC_STEPS" > "$out" 2>&1; then
+  if timeout "$RUN_TIMEOUT" /usr/bin/time -f "%U %S" -o "$cpu" "$2" "${args[@]}" > "$out" 2>&1; then
     local wall; wall=$(echo "$(date +%s.%N) - $t0" | bc)
-    awk -v l="$1" -v w="$wall" -v la="$(cut -d' ' -f1 /proc/loadavg)" '/mode pour/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") p = $(i + 1)}
+    awk -v l="$1" -v w="$wall" -v o="$order" -v cpu="$(tail -1 "$cpu")" -v la="$(cut -d' ' -f1 /proc/loadavg)" '/mode pour/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") p = $(i + 1)}
       /mode static/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") s = $(i + 1); t = $6}
-      END {printf "%s threads %s pour_PS/s/core %s static_PS/s/core %s wall_s %.1f loadavg %s\n", l, t, p, s, w, la}' "$out" | tee -a "$LOG"
+      END {split(cpu, c, " "); printf "%s threads %s order %s pour_PS/s/core %s static_PS/s/core %s wall_s %.1f user_s %s sys_s %s loadavg %s\n", l, t, o, p, s, w, c[1], c[2], la}' "$out" | tee -a "$LOG"
   else
-    echo "$1 threads $3 TIMEOUT after $RUN_TIMEOUT s loadavg $(cut -d' ' -f1 /proc/loadavg)" | tee -a "$LOG"
+    echo "$1 threads $3 order $order TIMEOUT after $RUN_TIMEOUT s loadavg $(cut -d' ' -f1 /proc/loadavg)" | tee -a "$LOG"
   fi
-  rm -f "$out"
+  rm -f "$out" "$cpu"
 }
 
 run_lammps() {  # ranks
@@ -67,9 +78,11 @@ run_lammps() {  # ranks
 
 for rep in $(seq 1 "$R"); do
   echo "# rep $rep $(date -Is)" | tee -a "$LOG"
-  run_demcal demcal "$BIN" 1
-  run_demcal demcal "$BIN" 2
-  run_lammps 2
+  for order in $ORDERS; do
+    run_demcal demcal "$BIN" 1 "$order"
+    run_demcal demcal "$BIN" 2 "$order"
+  done
+  [ "$LAMMPS" = 0 ] || run_lammps 2
   if [ -n "$BEFORE" ]; then
     run_demcal demcal-before "$BEFORE" 1
     run_demcal demcal-before "$BEFORE" 2

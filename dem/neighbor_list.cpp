@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace demcal::dem {
 namespace {
@@ -181,6 +182,56 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   history_ = std::move(history);
   touching_ = std::move(touching);
   position_at_build_ = pos;
+}
+
+void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
+  if (first_.empty()) return;
+  // Particles added since the build are not listed yet: new_index may be longer.
+  const std::size_t listed = first_.size() - 1;
+  const std::size_t n = new_index.size();
+  if (n < listed)
+    throw std::invalid_argument("NeighborList::renumber: " + std::to_string(n) +
+                                " new indices for " + std::to_string(listed) + " listed particles");
+  const std::size_t pairs = partner_.size();
+  std::vector<std::uint32_t> first(n + 1, 0);
+  for (std::size_t i = 0; i < listed; ++i)
+    for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q)
+      ++first[std::min(new_index[i], new_index[partner_[q]]) + 1];
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+  std::vector<std::uint32_t> partner(pairs);
+  std::vector<std::uint8_t> codes(pairs);
+  std::vector<ContactHistory> history(pairs);
+  std::vector<std::uint8_t> touching(pairs);
+  for (std::size_t i = 0; i < listed; ++i) {
+    for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
+      const std::uint32_t a = new_index[i], b = new_index[partner_[q]];
+      const std::uint32_t p = fill[std::min(a, b)]++;
+      touching[p] = touching_[q];
+      if (a < b) {
+        partner[p] = b;
+        codes[p] = shift_code_[q];
+        history[p] = history_[q];
+      } else {
+        partner[p] = a;
+        codes[p] = static_cast<std::uint8_t>(26 - shift_code_[q]);  // the opposite image
+        history[p].tangential_displacement_m = -history_[q].tangential_displacement_m;
+        history[p].rolling_torque_nm = -history_[q].rolling_torque_nm;
+      }
+    }
+  }
+  first_ = std::move(first);
+  partner_ = std::move(partner);
+  shift_code_ = std::move(codes);
+  history_ = std::move(history);
+  touching_ = std::move(touching);
+  if (position_at_build_.size() == listed && listed == n) {
+    std::vector<Vec3> moved(n);
+    for (std::size_t i = 0; i < n; ++i) moved[new_index[i]] = position_at_build_[i];
+    position_at_build_ = std::move(moved);
+  } else {
+    position_at_build_.clear();  // not comparable: the next step rebuilds
+  }
 }
 
 double NeighborList::max_displacement_m(const std::vector<Vec3>& pos) const {

@@ -27,6 +27,14 @@ class NeighborList {
   void build(const std::vector<Vec3>& position_m, const std::vector<double>& radius_m,
              const Domain& domain, double skin_m, ThreadTeam* team = nullptr);
 
+  // Renames the particles after they were reordered: particle i is now
+  // new_index[i]. Each pair is kept with its history and image; a pair whose
+  // particles swap ranks is listed under the new lower index, its image
+  // reversed and its history (the spring elongation and rolling torque on the
+  // first particle, both odd under the swap) negated. Call build() next: the
+  // pairs are grouped by particle but not in build order.
+  void renumber(const std::vector<std::uint32_t>& new_index);
+
   // True when some particle has moved more than half the skin since the build.
   bool needs_rebuild(const std::vector<Vec3>& position_m) const;
   double max_displacement_m(const std::vector<Vec3>& position_m) const;

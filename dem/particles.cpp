@@ -1,6 +1,8 @@
 #include "dem/particles.hpp"
 
 #include <numbers>
+#include <string>
+#include <stdexcept>
 
 namespace demcal::dem {
 
@@ -21,6 +23,38 @@ std::size_t Particles::add(const Vec3& position, double radius, double density_k
   material.push_back(material_index);
   id.push_back(identifier);
   return size() - 1;
+}
+
+namespace {
+
+template <class T>
+void gather(std::vector<T>& values, const std::vector<std::uint32_t>& order, std::vector<T>& scratch) {
+  scratch.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) scratch[k] = values[order[k]];
+  values.swap(scratch);
+}
+
+}  // namespace
+
+void Particles::permute(const std::vector<std::uint32_t>& order) {
+  if (order.size() != size())
+    throw std::invalid_argument("Particles::permute: the order has " + std::to_string(order.size()) +
+                                " entries for " + std::to_string(size()) + " particles");
+  std::vector<Vec3> v3;
+  gather(position_m, order, v3);
+  gather(velocity_m_s, order, v3);
+  gather(omega_rad_s, order, v3);
+  gather(force_n, order, v3);
+  gather(torque_nm, order, v3);
+  std::vector<double> d;
+  gather(radius_m, order, d);
+  gather(mass_kg, order, d);
+  gather(inv_mass_kg, order, d);
+  gather(inv_inertia_kg_m2, order, d);
+  std::vector<int> i32;
+  gather(material, order, i32);
+  std::vector<std::int64_t> i64;
+  gather(id, order, i64);
 }
 
 }  // namespace demcal::dem

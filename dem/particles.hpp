@@ -28,6 +28,13 @@ struct Particles {
   // Appends a solid sphere; returns its index.
   std::size_t add(const Vec3& position, double radius, double density_kg_m3, int material_index,
                   std::int64_t identifier, const Vec3& velocity = {}, const Vec3& omega = {});
+
+  // Reorders every per-particle array: the particle at old index order[k]
+  // moves to index k. `order` must be a permutation of 0 .. size()-1. A
+  // particle keeps its id, so whatever follows particles across a reorder
+  // (outputs, latches) must key them by id, not by index. Any array added to
+  // this struct must be added here too.
+  void permute(const std::vector<std::uint32_t>& order);
 };
 
 }  // namespace demcal::dem

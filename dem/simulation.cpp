@@ -232,6 +232,7 @@ void Simulation::rebuild_neighbors() {
     if (!dom.periodic[k]) continue;
     for (auto& p : x) p[k] -= len[k] * std::floor((p[k] - dom.lower_m[k]) / len[k]);
   }
+  if (options_.particle_order == ParticleOrder::kSpatial) reorder_particles();
   neighbors_.build(x, particles_.radius_m, dom, skin_m_, team_.get());
 
   // Wall candidates: particles within skin of each wall; history follows the particle.
@@ -258,6 +259,51 @@ void Simulation::rebuild_neighbors() {
   }
   rebuild_requested_ = false;
   split_ownership();
+}
+
+void Simulation::reorder_particles() {
+  const std::size_t n = particles_.size();
+  if (n < 2) return;
+  double r_max = 0.0;
+  for (double r : particles_.radius_m) r_max = std::max(r_max, r);
+  // The neighbour grid's cell: a particle's partners are in its own or an adjacent cell.
+  const std::vector<std::uint32_t> order =
+      spatial_order(particles_.position_m, options_.domain, 2.0 * r_max + skin_m_);
+  std::vector<std::uint32_t> new_index(n);
+  bool identity = true;
+  for (std::size_t k = 0; k < n; ++k) {
+    new_index[order[k]] = static_cast<std::uint32_t>(k);
+    identity = identity && order[k] == k;
+  }
+  if (identity) return;
+  particles_.permute(order);
+  // The drift stored the last step's forces to undo the velocity prediction
+  // (the reorder falls between drift and the new forces): they move too.
+  for (std::vector<Vec3>* before : {&force_before_, &torque_before_}) {
+    if (before->size() != n) continue;
+    std::vector<Vec3> moved(n);
+    for (std::size_t k = 0; k < n; ++k) moved[k] = (*before)[order[k]];
+    before->swap(moved);
+  }
+  neighbors_.renumber(new_index);
+  // Wall contact histories follow their particle; candidates stay ascending.
+  for (WallCandidates& cand : wall_candidates_) {
+    std::vector<std::size_t> by_new(cand.particle.size());
+    for (std::size_t c = 0; c < by_new.size(); ++c) by_new[c] = c;
+    std::sort(by_new.begin(), by_new.end(), [&](std::size_t a, std::size_t b) {
+      return new_index[cand.particle[a]] < new_index[cand.particle[b]];
+    });
+    WallCandidates moved;
+    moved.particle.reserve(by_new.size());
+    moved.history.reserve(by_new.size());
+    moved.touching.reserve(by_new.size());
+    for (std::size_t c : by_new) {
+      moved.particle.push_back(new_index[cand.particle[c]]);
+      moved.history.push_back(cand.history[c]);
+      moved.touching.push_back(cand.touching[c]);
+    }
+    cand = std::move(moved);
+  }
 }
 
 void Simulation::split_ownership() {

@@ -11,6 +11,7 @@
 #include "dem/insertion/inserter.hpp"
 #include "dem/material.hpp"
 #include "dem/neighbor_list.hpp"
+#include "dem/particle_order.hpp"
 #include "dem/particles.hpp"
 #include "dem/random.hpp"
 #include "dem/thread_team.hpp"
@@ -50,6 +51,10 @@ struct SimulationOptions {
   // Instability guard: a particle faster than this stops the run. 0 = derived
   // from the box: ten times the free-fall speed over its largest dimension.
   double max_speed_m_s = 0.0;
+  // How particles are stored (dem/particle_order.hpp). With kSpatial they are
+  // re-sorted at every neighbour build, so a particle's index changes during
+  // the run: follow a particle by Particles::id, not by index.
+  ParticleOrder particle_order = ParticleOrder::kInsertion;
 };
 
 // Net load the particles exert on one wall during the last step.
@@ -95,6 +100,8 @@ class Simulation {
   double time_s() const { return time_s_; }
   std::int64_t step_count() const { return steps_; }
   double time_step_s();  // resolves the step on first use
+  // Indices are stable only with ParticleOrder::kInsertion; with kSpatial they
+  // change at neighbour builds (ids do not).
   const Particles& particles() const { return particles_; }
   Particles& mutable_particles() { return particles_; }
   const std::vector<std::unique_ptr<Wall>>& walls() const { return walls_; }
@@ -132,6 +139,9 @@ class Simulation {
                         const std::set<int>& wall_materials, double r_max);
   void run_inserters();
   void rebuild_neighbors();
+  // Sorts the particles into spatial order and renames every index-keyed
+  // state (pair and wall histories, the last step's forces) to match.
+  void reorder_particles();
   void compute_forces();
   // Computes the forces, then calls finish(begin, end) on consecutive slices of
   // the particles, each a chunk of the team's run, once their forces are

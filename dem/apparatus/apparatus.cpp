@@ -45,6 +45,7 @@ SimulationOptions options_for(const GranularMaterial& m, const RunProtocol& p, c
   o.time_step_fraction_of_rayleigh = p.time_step_fraction_of_rayleigh;
   o.seed = p.seed;
   o.threads = p.threads;
+  o.particle_order = p.particle_order;
   return o;
 }
 

@@ -37,6 +37,9 @@ struct RunProtocol {
   // grains is a gigabyte and a tenth of a second a step, days for a run.
   // Larger runs are meant for coarse graining, a slice, or a distributed engine.
   double max_particles = 1e6;
+  // How the engine stores particles (dem/particle_order.hpp): spatial order
+  // changes the summation order, so results differ bit-wise from insertion order.
+  ParticleOrder particle_order = ParticleOrder::kInsertion;
 };
 
 // Called after every step with the phase name ("fill", "settle", "discharge", ...);

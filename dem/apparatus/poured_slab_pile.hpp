@@ -33,6 +33,7 @@ struct PouredSlabPileOptions {
   double time_step_s = 5e-6;
   std::uint64_t seed = 4767;
   int threads = 1;
+  ParticleOrder particle_order = ParticleOrder::kInsertion;  // dem/particle_order.hpp
 };
 
 std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& options);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -384,12 +385,26 @@ void DischargeRecorder::sample(double time_s, const Particles& particles) {
   }
   const std::size_t n = particles.size();
   if (latch_) {
-    if (n < passed_.size()) {
+    if (n < last_count_) {
       throw std::logic_error(
-          "DischargeRecorder::sample: particles were removed; the latch is indexed by particle");
+          "DischargeRecorder::sample: particles were removed; the latch follows every particle");
     }
-    // Allocates only when particles were added since the last sample.
-    if (n > passed_.size()) passed_.resize(n, 0);
+    // Allocates only when particles were added since the last sample. Ids are
+    // dense from 0 in the engine; one far beyond the count is refused rather
+    // than sized for.
+    if (n > last_count_) {
+      std::int64_t max_id = -1;
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::int64_t id = particles.id[i];
+        if (id < 0 || static_cast<std::uint64_t>(id) >= 4 * static_cast<std::uint64_t>(n) + 1024)
+          throw std::logic_error("DischargeRecorder::sample: particle id " + std::to_string(id) +
+                                 " is outside [0, 4 x count + 1024); the latch is keyed by id");
+        max_id = std::max(max_id, id);
+      }
+      if (static_cast<std::size_t>(max_id + 1) > passed_.size())
+        passed_.resize(static_cast<std::size_t>(max_id + 1), 0);
+      last_count_ = n;
+    }
   }
   const auto& z = particles.position_m;
   const auto& mass = particles.mass_kg;
@@ -397,14 +412,15 @@ void DischargeRecorder::sample(double time_s, const Particles& particles) {
   double all_kg = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     all_kg += mass[i];
-    if (latch_ && passed_[i]) {
+    const auto id = latch_ ? static_cast<std::size_t>(particles.id[i]) : 0;
+    if (latch_ && passed_[id]) {
       discharged_kg += mass[i];
       continue;
     }
     const bool out = below_plane_ ? z[i].z < z_out_m_ : discharged_(particles, i);
     if (out) {
       discharged_kg += mass[i];
-      if (latch_) passed_[i] = 1;
+      if (latch_) passed_[id] = 1;
     }
   }
   if (std::isnan(fill_mass_kg_)) fill_mass_kg_ = all_kg;

@@ -149,8 +149,11 @@ class DischargeRecorder {
   // Once discharged, always discharged: grains in the lower bulb that bounce
   // or heap back above the plane have still passed the orifice, and m(t) must
   // not drop because of them.
+  // The latch is keyed by particle id (Particles::id), not index: with spatial
+  // particle order (dem/particle_order.hpp) a grain's index changes during the run.
   bool latch_ = true;
-  std::vector<unsigned char> passed_;
+  std::vector<unsigned char> passed_;  // [id]
+  std::size_t last_count_ = 0;
   std::vector<double> time_s_;
   std::vector<double> mass_kg_;
   double fill_mass_kg_ = std::numeric_limits<double>::quiet_NaN();
