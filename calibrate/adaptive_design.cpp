@@ -57,6 +57,9 @@ struct AdaptiveDesign::Stage {
   AdaptiveDesignStatus status = AdaptiveDesignStatus::running;
   std::string statement;
   std::vector<RunRequest> next;  // the next batch, when running
+  // This batch's posterior weights as the acquisition tempers them (before any averaging):
+  // the next batch averages with them when options.acquisition_weight_batches == 2.
+  PosteriorWeights acquisition_weights;
 };
 
 AdaptiveDesign::AdaptiveDesign(AdaptiveDesignProblem problem, AdaptiveDesignOptions options)
@@ -200,7 +203,16 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   std::vector<double> noise;
   for (const auto& f : st.calibration.surrogates)
     noise.push_back(std::isfinite(f.scatter.sd) ? f.scatter.sd * f.scatter.sd : 0.0);
-  const auto choices = choose_batch(problem, weights, noise, design,
+  // The acquisition's weights: the posterior, or (the swing-damping options) tempered and/or
+  // averaged with the previous batch's.
+  const bool tempered = options_.acquisition_tempering != 1.0;
+  st.acquisition_weights =
+      tempered ? posterior_weights(problem, options_, options_.acquisition_tempering) : weights;
+  const bool averaged = options_.acquisition_weight_batches == 2 && previous != nullptr;
+  const PosteriorWeights acquisition =
+      averaged ? average_weights(st.acquisition_weights, previous->acquisition_weights)
+               : st.acquisition_weights;
+  const auto choices = choose_batch(problem, acquisition, noise, design,
                                     count - static_cast<int>(st.next.size()), options_);
   for (std::size_t c = 0; c < choices.size(); ++c) {
     const std::size_t slot = st.next.size();
@@ -217,7 +229,16 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   // that is the expected relative drop d of the variance the region is computed with, and
   // the region's volume (p parameters) scales as variance^(p/2).
   double believed_drop = 0.0;
-  for (const auto& c : choices) believed_drop += c.value;
+  if (tempered || averaged) {
+    // Chosen under other weights: valued under this batch's posterior, as the rule means.
+    Eigen::MatrixXd chosen(static_cast<Eigen::Index>(choices.size()),
+                           static_cast<Eigen::Index>(problem_.parameters.size()));
+    for (std::size_t c = 0; c < choices.size(); ++c)
+      chosen.row(static_cast<Eigen::Index>(c)) = choices[c].theta.transpose();
+    believed_drop = batch_variance_drop(problem, weights, noise, chosen);
+  } else {
+    for (const auto& c : choices) believed_drop += c.value;
+  }
   const double d = std::clamp(believed_drop / static_cast<double>(problem_.recordings.size()) /
                                   (1.0 + rec.surrogate_variance_ratio),
                               0.0, 1.0);
