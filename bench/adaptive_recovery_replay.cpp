@@ -19,7 +19,7 @@
 //
 //   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
 //                                      [--offset-aor 12] [--lab-seed-base 1000]
-//                                      [--weight-batches 2] [--tempering 0.5]
+//                                      [--weight-batches 2] [--tempering 0.5] [--max-runs 32]
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
@@ -106,6 +106,8 @@ int main(int argc, char** argv) {
   // The swing-damping options of AdaptiveDesignOptions (defaults: off).
   int weight_batches = 1;
   double tempering = 1.0;
+  // A smaller run budget: what the region is when the design must stop there (diagnostic).
+  int max_runs = calibrate::AdaptiveDesignOptions{}.max_runs;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--labs") labs = std::stoi(v);
@@ -117,6 +119,7 @@ int main(int argc, char** argv) {
     else if (k == "--lab-seed-base") lab_seed_base = std::stoull(v);
     else if (k == "--weight-batches") weight_batches = std::stoi(v);
     else if (k == "--tempering") tempering = std::stod(v);
+    else if (k == "--max-runs") max_runs = std::stoi(v);
     else {
       std::cerr << "unknown option " << k << "\n";
       return 2;
@@ -142,12 +145,13 @@ int main(int argc, char** argv) {
   calibrate::AdaptiveDesignOptions options;  // the defaults, as [design] kind = "adaptive"
   options.acquisition_weight_batches = weight_batches;
   options.acquisition_tempering = tempering;
+  options.max_runs = max_runs;
   if (std::string error; !options.Validate(&error)) {
     std::cerr << error << "\n";
     return 2;
   }
-  std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g\n",
-              weight_batches, tempering);
+  std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g, max_runs %d\n",
+              weight_batches, tempering, max_runs);
   // The emulator: the grid's GPs (fitted against any recordings: the fit does not use them).
   const auto emulator = calibrate::calibrate_runs(bounds, recordings(30.0, 0.53), grid,
                                                   options.surrogate, options.calibration);
