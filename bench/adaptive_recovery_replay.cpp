@@ -20,6 +20,7 @@
 //   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
 //                                      [--offset-aor 12] [--lab-seed-base 1000]
 //                                      [--weight-batches 2] [--tempering 0.5] [--max-runs 32]
+//                                      [--space-filling 1]
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
@@ -108,6 +109,7 @@ int main(int argc, char** argv) {
   double tempering = 1.0;
   // A smaller run budget: what the region is when the design must stop there (diagnostic).
   int max_runs = calibrate::AdaptiveDesignOptions{}.max_runs;
+  bool space_filling = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--labs") labs = std::stoi(v);
@@ -120,6 +122,7 @@ int main(int argc, char** argv) {
     else if (k == "--weight-batches") weight_batches = std::stoi(v);
     else if (k == "--tempering") tempering = std::stod(v);
     else if (k == "--max-runs") max_runs = std::stoi(v);
+    else if (k == "--space-filling") space_filling = v == "1";
     else {
       std::cerr << "unknown option " << k << "\n";
       return 2;
@@ -146,12 +149,14 @@ int main(int argc, char** argv) {
   options.acquisition_weight_batches = weight_batches;
   options.acquisition_tempering = tempering;
   options.max_runs = max_runs;
+  options.space_filling_batch = space_filling;
   if (std::string error; !options.Validate(&error)) {
     std::cerr << error << "\n";
     return 2;
   }
-  std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g, max_runs %d\n",
-              weight_batches, tempering, max_runs);
+  std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g, max_runs %d, "
+              "space_filling_batch %d\n",
+              weight_batches, tempering, max_runs, space_filling ? 1 : 0);
   // The emulator: the grid's GPs (fitted against any recordings: the fit does not use them).
   const auto emulator = calibrate::calibrate_runs(bounds, recordings(30.0, 0.53), grid,
                                                   options.surrogate, options.calibration);

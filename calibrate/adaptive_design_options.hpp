@@ -60,6 +60,12 @@ struct AdaptiveDesignOptions {
   // posterior (the gain: the chosen runs' joint variance drop under those weights).
   int acquisition_weight_batches = 1;
   double acquisition_tempering = 1.0;
+  // space_filling_batch: instead of the weighted-IMSE maximizers, the batch's new points fill
+  // the high-posterior set (the heaviest acquisition-weight nodes carrying 95 % of it) by
+  // greedy maximin: each is the node of that set farthest (bound-scaled) from every run and
+  // earlier choice, so the whole set, its edges and arms included, gets runs at once.
+  // Off by default.
+  bool space_filling_batch = false;
 
   // --- Stopping ------------------------------------------------------------------------
   // After a batch the design is stable when (all of):
