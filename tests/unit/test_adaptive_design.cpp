@@ -355,6 +355,43 @@ TEST(AdaptiveDesign, TemperedAndAveragedWeightsAreProperWeightings) {
   EXPECT_NEAR(batch_variance_drop(cp, w, noise, chosen), sum, 1e-9 * std::max(1.0, sum));
 }
 
+// AdaptiveDesignOptions::space_filling_batch: the first batch after the start fills the
+// high-posterior set: its new points are min_separation from the runs and from each other,
+// lie where the posterior puts weight, say why they were chosen, and the design's record
+// still values the next batch (expected gain between 0 and 1).
+TEST(AdaptiveDesign, SpaceFillingBatchKeepsItsDistanceInsideTheHighPosteriorSet) {
+  AdaptiveDesignProblem problem{bounds(), recordings_at(0.2, 0.45, 2)};
+  AdaptiveDesignOptions options = test_options(2);
+  options.space_filling_batch = true;
+  AdaptiveDesign design(problem, options);
+  std::vector<RunResult> done;
+  for (const auto& r : design.next_runs({})) done.push_back({r, simulate(r)});
+  const auto next = design.next_runs(done);
+  ASSERT_EQ(next.size(), static_cast<std::size_t>(options.batch_size));
+  const CalibrationProblem cp(bounds(), design.latest_calibration()->targets);
+  const PosteriorWeights w = posterior_weights(cp, options);
+  std::vector<Eigen::VectorXd> taken;
+  for (const auto& r : done)
+    taken.push_back(cp.to_unit(Eigen::Vector2d(r.request.theta[0], r.request.theta[1])));
+  int filled = 0;
+  for (const auto& r : next) {
+    if (r.reason.find("space-filling") == std::string::npos) continue;  // a replicate
+    ++filled;
+    const Eigen::Vector2d theta(r.theta[0], r.theta[1]);
+    const Eigen::VectorXd u = cp.to_unit(theta);
+    for (const auto& t : taken) EXPECT_GE((u - t).norm(), options.min_separation);
+    taken.push_back(u);
+    bool on_a_weighted_node = false;
+    for (Eigen::Index g = 0; g < w.points.rows(); ++g)
+      on_a_weighted_node |= (w.points.row(g).transpose() - theta).norm() < 1e-12;
+    EXPECT_TRUE(on_a_weighted_node) << theta.transpose();
+  }
+  EXPECT_GE(filled, 1);
+  const auto& rec = design.history().batches.at(0);
+  EXPECT_GT(rec.expected_area_gain, 0.0);
+  EXPECT_LE(rec.expected_area_gain, 1.0);
+}
+
 TEST(AdaptiveDesign, OptionsValidateWithReadableErrors) {
   AdaptiveDesignOptions o;
   std::string error;
