@@ -19,6 +19,8 @@
 //
 //   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
 //                                      [--offset-aor 12] [--lab-seed-base 1000]
+//                                      [--weight-batches 2] [--tempering 0.5] [--max-runs 32]
+//                                      [--space-filling 1]
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
@@ -102,6 +104,12 @@ int main(int argc, char** argv) {
   // base + k) and of their designs (base - 1000 + k): another base gives another set of
   // laboratories, for checking a method on cases it was not tuned on.
   std::uint64_t lab_seed_base = 1000;
+  // The swing-damping options of AdaptiveDesignOptions (defaults: off).
+  int weight_batches = 1;
+  double tempering = 1.0;
+  // A smaller run budget: what the region is when the design must stop there (diagnostic).
+  int max_runs = calibrate::AdaptiveDesignOptions{}.max_runs;
+  bool space_filling = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--labs") labs = std::stoi(v);
@@ -111,6 +119,10 @@ int main(int argc, char** argv) {
     } else if (k == "--offset-aor") offset_aor = std::stod(v);
     else if (k == "--emulator-labs") emulator_labs = v == "1";
     else if (k == "--lab-seed-base") lab_seed_base = std::stoull(v);
+    else if (k == "--weight-batches") weight_batches = std::stoi(v);
+    else if (k == "--tempering") tempering = std::stod(v);
+    else if (k == "--max-runs") max_runs = std::stoi(v);
+    else if (k == "--space-filling") space_filling = v == "1";
     else {
       std::cerr << "unknown option " << k << "\n";
       return 2;
@@ -134,6 +146,17 @@ int main(int argc, char** argv) {
     grid.push_back(x);
   }
   calibrate::AdaptiveDesignOptions options;  // the defaults, as [design] kind = "adaptive"
+  options.acquisition_weight_batches = weight_batches;
+  options.acquisition_tempering = tempering;
+  options.max_runs = max_runs;
+  options.space_filling_batch = space_filling;
+  if (std::string error; !options.Validate(&error)) {
+    std::cerr << error << "\n";
+    return 2;
+  }
+  std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g, max_runs %d, "
+              "space_filling_batch %d\n",
+              weight_batches, tempering, max_runs, space_filling ? 1 : 0);
   // The emulator: the grid's GPs (fitted against any recordings: the fit does not use them).
   const auto emulator = calibrate::calibrate_runs(bounds, recordings(30.0, 0.53), grid,
                                                   options.surrogate, options.calibration);
@@ -169,6 +192,10 @@ int main(int argc, char** argv) {
                 "AoR %.3f deg, time %.4f s\n", truth(0), truth(1), ea, et, truth_tests.size(), a, t);
   }
   std::vector<double> runs, ratios;
+  // The swing: the area changes of the batches after the scatter has its degrees of freedom
+  // (from then on only the area, the point and the gain keep a design running), over all
+  // laboratories; and how many of them exceed area_tolerance.
+  std::vector<double> late_changes;
   int inside_a = 0, inside_g = 0, mus_a = 0, mus_g = 0;
   std::printf("lab  runs  batches  status            area_adaptive  area_grid  ratio  inside(a/g)  mu_s id(a/g)\n");
   for (int k = 1; k <= labs; ++k) {
@@ -200,6 +227,10 @@ int main(int argc, char** argv) {
     const auto g = calibrate::calibrate_runs(bounds, problem.recordings, grid, o.surrogate, o.calibration);
     const Judged ja = judge(adaptive.calibration, bounds, truth), jg = judge(g, bounds, truth);
     runs.push_back(static_cast<double>(adaptive.runs.size()));
+    for (const auto& b : adaptive.history.batches)
+      if (b.complete && b.index > 0 && std::isfinite(b.area_change) &&
+          b.scatter_degrees_of_freedom >= o.scatter_degrees_of_freedom)
+        late_changes.push_back(b.area_change);
     ratios.push_back(ja.area / jg.area);
     inside_a += ja.inside, inside_g += jg.inside, mus_a += ja.mu_s_identified, mus_g += jg.mu_s_identified;
     std::printf("%3d  %4zu  %7zu  %-16s  %13.4f  %9.4f  %5.2f  %d/%d          %d/%d\n", k,
@@ -227,6 +258,11 @@ int main(int argc, char** argv) {
               median(runs), sorted_runs.front(), sorted_runs.back(), median(ratios),
               *std::min_element(ratios.begin(), ratios.end()),
               *std::max_element(ratios.begin(), ratios.end()));
+  const auto swinging = std::count_if(late_changes.begin(), late_changes.end(),
+                                      [&](double c) { return c > options.area_tolerance; });
+  std::printf("swing: area change of the batches after the scatter's dof are reached: median %.3f, "
+              "%td of %zu above area_tolerance %.2f\n",
+              median(late_changes), swinging, late_changes.size(), options.area_tolerance);
   std::printf("truth inside: adaptive %d/%d, grid %d/%d; mu_s identified: adaptive %d/%d, grid %d/%d\n",
               inside_a, labs, inside_g, labs, mus_a, labs, mus_g, labs);
   return 0;

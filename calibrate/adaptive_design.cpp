@@ -46,6 +46,41 @@ std::string point_text(const std::vector<ParameterBounds>& parameters,
   return s;
 }
 
+// AdaptiveDesignOptions::space_filling_batch: greedy maximin over the nodes carrying 95 % of
+// the weights (they come by decreasing weight). Ties go to the heavier node. Value: NaN (no
+// acquisition was maximized; the stopping rule values the batch by batch_variance_drop).
+std::vector<AcquisitionChoice> fill_high_posterior_set(const CalibrationProblem& problem,
+                                                       const PosteriorWeights& weights,
+                                                       const Eigen::MatrixXd& design_points,
+                                                       int count, double min_separation) {
+  constexpr double kHighPosteriorMass = 0.95;
+  std::vector<Eigen::VectorXd> set;
+  double mass = 0.0;
+  for (Eigen::Index g = 0; g < weights.points.rows() && mass < kHighPosteriorMass; ++g) {
+    set.push_back(weights.points.row(g).transpose());
+    mass += weights.weights(g);
+  }
+  std::vector<Eigen::VectorXd> taken;
+  for (Eigen::Index r = 0; r < design_points.rows(); ++r)
+    taken.push_back(problem.to_unit(design_points.row(r).transpose()));
+  std::vector<AcquisitionChoice> chosen;
+  for (int slot = 0; slot < count; ++slot) {
+    double best_distance = -1.0;
+    std::size_t best = set.size();
+    for (std::size_t c = 0; c < set.size(); ++c) {
+      const Eigen::VectorXd u = problem.to_unit(set[c]);
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& t : taken) nearest = std::min(nearest, (u - t).norm());
+      if (nearest > best_distance) best_distance = nearest, best = c;
+    }
+    // As choose_batch: runs do not pile into one spot.
+    if (best == set.size() || best_distance < min_separation) break;
+    chosen.push_back({set[best], kNaN});
+    taken.push_back(problem.to_unit(set[best]));
+  }
+  return chosen;
+}
+
 }  // namespace
 
 struct AdaptiveDesign::Stage {
@@ -57,6 +92,9 @@ struct AdaptiveDesign::Stage {
   AdaptiveDesignStatus status = AdaptiveDesignStatus::running;
   std::string statement;
   std::vector<RunRequest> next;  // the next batch, when running
+  // This batch's posterior weights as the acquisition tempers them (before any averaging):
+  // the next batch averages with them when options.acquisition_weight_batches == 2.
+  PosteriorWeights acquisition_weights;
 };
 
 AdaptiveDesign::AdaptiveDesign(AdaptiveDesignProblem problem, AdaptiveDesignOptions options)
@@ -200,16 +238,31 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   std::vector<double> noise;
   for (const auto& f : st.calibration.surrogates)
     noise.push_back(std::isfinite(f.scatter.sd) ? f.scatter.sd * f.scatter.sd : 0.0);
-  const auto choices = choose_batch(problem, weights, noise, design,
-                                    count - static_cast<int>(st.next.size()), options_);
+  // The acquisition's weights: the posterior, or (the swing-damping options) tempered and/or
+  // averaged with the previous batch's.
+  const bool tempered = options_.acquisition_tempering != 1.0;
+  st.acquisition_weights =
+      tempered ? posterior_weights(problem, options_, options_.acquisition_tempering) : weights;
+  const bool averaged = options_.acquisition_weight_batches == 2 && previous != nullptr;
+  const PosteriorWeights acquisition =
+      averaged ? average_weights(st.acquisition_weights, previous->acquisition_weights)
+               : st.acquisition_weights;
+  const int wanted_new = count - static_cast<int>(st.next.size());
+  const auto choices = options_.space_filling_batch
+                           ? fill_high_posterior_set(problem, acquisition, design, wanted_new,
+                                                     options_.min_separation)
+                           : choose_batch(problem, acquisition, noise, design, wanted_new, options_);
   for (std::size_t c = 0; c < choices.size(); ++c) {
     const std::size_t slot = st.next.size();
     st.next.push_back({next, slot,
                        std::vector<double>(choices[c].theta.data(),
                                            choices[c].theta.data() + choices[c].theta.size()),
                        0, run_seed(options_.seed, next, slot),
-                       "largest posterior-weighted variance reduction (kriging believer, choice " +
-                           std::to_string(c + 1) + " of the batch)",
+                       options_.space_filling_batch
+                           ? "space-filling in the 95 % high-posterior set (farthest from the "
+                             "runs, choice " + std::to_string(c + 1) + " of the batch)"
+                           : "largest posterior-weighted variance reduction (kriging believer, "
+                             "choice " + std::to_string(c + 1) + " of the batch)",
                        choices[c].value});
   }
   // Expected gain: the chosen runs' acquisition values sum to the expected drop of
@@ -217,7 +270,16 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   // that is the expected relative drop d of the variance the region is computed with, and
   // the region's volume (p parameters) scales as variance^(p/2).
   double believed_drop = 0.0;
-  for (const auto& c : choices) believed_drop += c.value;
+  if (tempered || averaged || options_.space_filling_batch) {
+    // Chosen under other weights: valued under this batch's posterior, as the rule means.
+    Eigen::MatrixXd chosen(static_cast<Eigen::Index>(choices.size()),
+                           static_cast<Eigen::Index>(problem_.parameters.size()));
+    for (std::size_t c = 0; c < choices.size(); ++c)
+      chosen.row(static_cast<Eigen::Index>(c)) = choices[c].theta.transpose();
+    believed_drop = batch_variance_drop(problem, weights, noise, chosen);
+  } else {
+    for (const auto& c : choices) believed_drop += c.value;
+  }
   const double d = std::clamp(believed_drop / static_cast<double>(problem_.recordings.size()) /
                                   (1.0 + rec.surrogate_variance_ratio),
                               0.0, 1.0);

@@ -45,6 +45,12 @@ bool AdaptiveDesignOptions::Validate(std::string* error) const {
   if (!(min_separation > 0.0 && min_separation < 0.5))
     return fail("min_separation must be in (0, 0.5) (bound-scaled units), got " +
                 std::to_string(min_separation));
+  if (acquisition_weight_batches < 1 || acquisition_weight_batches > 2)
+    return fail("acquisition_weight_batches must be 1 or 2, got " +
+                std::to_string(acquisition_weight_batches));
+  if (!(acquisition_tempering > 0.0 && acquisition_tempering <= 1.0))
+    return fail("acquisition_tempering must be in (0, 1], got " +
+                std::to_string(acquisition_tempering));
   if (!(area_tolerance > 0.0 && area_tolerance < 1.0))
     return fail("area_tolerance must be in (0, 1), got " + std::to_string(area_tolerance));
   if (!(point_tolerance > 0.0 && point_tolerance < 1.0))

@@ -45,6 +45,27 @@ struct AdaptiveDesignOptions {
   // point already in the batch is not taken: runs do not pile into one spot (a replicate is
   // the only way to repeat a point). In (0, 0.5).
   double min_separation = 0.03;
+  // Damping the region's batch-to-batch swing (issue 16, BENCHMARKS.md "Issue 16, evening";
+  // both off by default). Late in a design the posterior, which carries the surrogates'
+  // variance, spreads into an arm of the region where the GP is unsure, the next batch runs
+  // there, the posterior contracts, the next batch runs in the core, and so on.
+  //  acquisition_weight_batches (1 or 2): 2 integrates the acquisition over the mean of this
+  //    batch's and the previous batch's posterior weights, so a batch still serves the arm the
+  //    posterior has just left. 1: this batch's posterior only.
+  //  acquisition_tempering (in (0, 1]): the acquisition's weights are posterior^tempering; at
+  //    0.5 the 95 % region's boundary (chi^2 5.99 above the best for 2 parameters) weighs
+  //    exp(-1.5) = 0.22 of the peak instead of exp(-3) = 0.05, so the batch covers the whole
+  //    high-posterior set, arms included, before the posterior spreads there. 1: the posterior.
+  // The stopping rule's share, posterior mean and expected gain stay on this batch's
+  // posterior (the gain: the chosen runs' joint variance drop under those weights).
+  int acquisition_weight_batches = 1;
+  double acquisition_tempering = 1.0;
+  // space_filling_batch: instead of the weighted-IMSE maximizers, the batch's new points fill
+  // the high-posterior set (the heaviest acquisition-weight nodes carrying 95 % of it) by
+  // greedy maximin: each is the node of that set farthest (bound-scaled) from every run and
+  // earlier choice, so the whole set, its edges and arms included, gets runs at once.
+  // Off by default.
+  bool space_filling_batch = false;
 
   // --- Stopping ------------------------------------------------------------------------
   // After a batch the design is stable when (all of):

@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace demcal::calibrate {
 namespace {
@@ -81,10 +84,14 @@ surrogate::GaussianProcess with_point(const surrogate::GaussianProcess& gp,
 }  // namespace
 
 PosteriorWeights posterior_weights(const CalibrationProblem& problem,
-                                   const AdaptiveDesignOptions& options) {
+                                   const AdaptiveDesignOptions& options, double exponent) {
+  if (!(exponent > 0.0 && exponent <= 1.0))
+    throw std::invalid_argument("posterior_weights: exponent must be in (0, 1], got " +
+                                std::to_string(exponent));
   const Eigen::MatrixXd grid = grid_points(problem, options.acquisition_grid_points_per_axis);
   const TargetPredictions pred = problem.evaluate(grid);
-  const Eigen::VectorXd log_post = -0.5 * (pred.chi_squared + pred.log_variance_sum);
+  Eigen::VectorXd log_post = -0.5 * (pred.chi_squared + pred.log_variance_sum);
+  if (exponent != 1.0) log_post *= exponent;
   const double top = log_post.maxCoeff();
   Eigen::VectorXd w = (log_post.array() - top).exp().matrix();
   w /= w.sum();
@@ -108,6 +115,37 @@ PosteriorWeights posterior_weights(const CalibrationProblem& problem,
   return out;
 }
 
+PosteriorWeights average_weights(const PosteriorWeights& a, const PosteriorWeights& b) {
+  if (a.points.cols() != b.points.cols())
+    throw std::invalid_argument("average_weights: the weightings have different parameters");
+  // Nodes of one grid: equal rows are the same node, bit for bit.
+  std::map<std::vector<double>, double> sum;
+  auto add = [&sum](const PosteriorWeights& w) {
+    for (Eigen::Index g = 0; g < w.points.rows(); ++g) {
+      const Eigen::RowVectorXd row = w.points.row(g);
+      sum[std::vector<double>(row.data(), row.data() + row.size())] += 0.5 * w.weights(g);
+    }
+  };
+  add(a);
+  add(b);
+  std::vector<std::pair<std::vector<double>, double>> nodes(sum.begin(), sum.end());
+  // By decreasing weight (the candidates are every k-th node in this order); the map's order
+  // breaks ties, so the result is the same on every platform.
+  std::stable_sort(nodes.begin(), nodes.end(),
+                   [](const auto& x, const auto& y) { return x.second > y.second; });
+  PosteriorWeights out;
+  out.points.resize(static_cast<Eigen::Index>(nodes.size()), a.points.cols());
+  out.weights.resize(static_cast<Eigen::Index>(nodes.size()));
+  double total = 0.0;
+  for (const auto& n : nodes) total += n.second;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    for (std::size_t j = 0; j < nodes[k].first.size(); ++j)
+      out.points(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = nodes[k].first[j];
+    out.weights(static_cast<Eigen::Index>(k)) = nodes[k].second / total;
+  }
+  return out;
+}
+
 double weighted_surrogate_variance(const CalibrationProblem& problem,
                                    const PosteriorWeights& weights) {
   const Eigen::VectorXd s2 = noise_variances(problem);
@@ -118,6 +156,28 @@ double weighted_surrogate_variance(const CalibrationProblem& problem,
     total += weights.weights.dot(v) / s2(i);
   }
   return total / static_cast<double>(problem.target_count());
+}
+
+double batch_variance_drop(const CalibrationProblem& problem, const PosteriorWeights& weights,
+                           const std::vector<double>& new_run_noise_variance,
+                           const Eigen::MatrixXd& points) {
+  const auto n_targets = static_cast<std::size_t>(problem.target_count());
+  if (new_run_noise_variance.size() != n_targets)
+    throw std::invalid_argument("batch_variance_drop: new_run_noise_variance has " +
+                                std::to_string(new_run_noise_variance.size()) +
+                                " entries, the problem has " + std::to_string(n_targets) +
+                                " targets");
+  const Eigen::VectorXd s2 = noise_variances(problem);
+  double drop = 0.0;
+  for (std::size_t i = 0; i < n_targets; ++i) {
+    surrogate::GaussianProcess gp = *as_gp(problem.targets()[i], i);
+    const Eigen::VectorXd before = gp.predict(weights.points).variance;
+    for (Eigen::Index r = 0; r < points.rows(); ++r)
+      gp = with_point(gp, points.row(r), new_run_noise_variance[i]);
+    drop += weights.weights.dot(before - gp.predict(weights.points).variance) /
+            s2(static_cast<Eigen::Index>(i));
+  }
+  return drop;
 }
 
 std::vector<AcquisitionChoice> choose_batch(const CalibrationProblem& problem,

@@ -34,8 +34,15 @@ struct PosteriorWeights {
   Eigen::MatrixXd points;   // rows, parameter units, by decreasing weight
   Eigen::VectorXd weights;  // sum to 1
 };
+// `exponent` in (0, 1] tempers the weights, w ∝ posterior^exponent: 1 is the posterior; a
+// smaller one flattens it so that the edges of the high-posterior set weigh more
+// (AdaptiveDesignOptions::acquisition_tempering).
 PosteriorWeights posterior_weights(const CalibrationProblem& problem,
-                                   const AdaptiveDesignOptions& options);
+                                   const AdaptiveDesignOptions& options, double exponent = 1.0);
+
+// The mean of two weightings over the same acquisition grid (nodes matched exactly), by
+// decreasing weight: the integral then covers where either posterior put the parameters.
+PosteriorWeights average_weights(const PosteriorWeights& a, const PosteriorWeights& b);
 
 // sum_g w(g) mean_i V_i(g) / s_i^2: how much of the targets' noise variance the surrogates'
 // own variance adds where the posterior is. Below ~0.25 the region is set by the data (the
@@ -54,6 +61,13 @@ struct AcquisitionChoice {
 // `design_points`: the distinct points already run (rows, parameter units); candidates
 // closer than options.min_separation (bound-scaled) to them or to an earlier choice are
 // skipped, so fewer than `count` come back when the candidates run out.
+// sum_i sum_g w(g) [V_i(g) - V_i(g | points)] / s_i^2: the joint drop of the weighted
+// variance after runs at `points` (rows, parameter units), the GPs believing each in turn, as
+// choose_batch computes it; for valuing a batch chosen under other weights.
+double batch_variance_drop(const CalibrationProblem& problem, const PosteriorWeights& weights,
+                           const std::vector<double>& new_run_noise_variance,
+                           const Eigen::MatrixXd& points);
+
 std::vector<AcquisitionChoice> choose_batch(const CalibrationProblem& problem,
                                             const PosteriorWeights& weights,
                                             const std::vector<double>& new_run_noise_variance,

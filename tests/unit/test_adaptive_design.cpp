@@ -308,6 +308,90 @@ TEST(AdaptiveDesign, TheBatchKeepsItsDistanceAndEachChoiceIsWorthSomething) {
   EXPECT_LE(batch.back().value, batch.front().value);
 }
 
+// The swing-damping weights (AdaptiveDesignOptions::acquisition_tempering and
+// acquisition_weight_batches): tempering spreads the weight (a lower peak, more nodes to
+// carry 99.9 %), the mean of a weighting with itself is itself, the mean of two keeps every
+// node of both, and the joint drop of a batch valued by batch_variance_drop is the sum of its
+// choices' values (each is the believer's increment), so the stopping rule's expected gain
+// means the same whichever weights chose the batch.
+TEST(AdaptiveDesign, TemperedAndAveragedWeightsAreProperWeightings) {
+  AdaptiveDesignProblem problem{bounds(), recordings_at(0.2, 0.45, 2)};
+  const AdaptiveDesignOptions options = test_options(2);
+  AdaptiveDesign design(problem, options);
+  std::vector<RunResult> done;
+  for (const auto& r : design.next_runs({})) done.push_back({r, simulate(r)});
+  ASSERT_TRUE(design.next_runs(done).size() > 0);
+  const CalibrationProblem cp(bounds(), design.latest_calibration()->targets);
+  const PosteriorWeights w = posterior_weights(cp, options);
+  const PosteriorWeights t = posterior_weights(cp, options, 0.5);
+  EXPECT_NEAR(t.weights.sum(), 1.0, 1e-12);
+  EXPECT_LT(t.weights(0), w.weights(0));
+  EXPECT_GE(t.points.rows(), w.points.rows());
+  EXPECT_THROW(posterior_weights(cp, options, 0.0), std::invalid_argument);
+  EXPECT_THROW(posterior_weights(cp, options, 1.5), std::invalid_argument);
+  const PosteriorWeights same = average_weights(w, w);
+  ASSERT_EQ(same.points.rows(), w.points.rows());
+  EXPECT_NEAR(same.weights.sum(), 1.0, 1e-12);
+  EXPECT_NEAR(same.weights(0), w.weights(0), 1e-12);
+  EXPECT_TRUE(same.points.row(0).isApprox(w.points.row(0)));
+  const PosteriorWeights both = average_weights(w, t);
+  EXPECT_GE(both.points.rows(), t.points.rows());
+  EXPECT_NEAR(both.weights.sum(), 1.0, 1e-12);
+  for (Eigen::Index g = 1; g < both.weights.size(); ++g)
+    EXPECT_LE(both.weights(g), both.weights(g - 1));
+  Eigen::MatrixXd design_points(static_cast<Eigen::Index>(done.size()), 2);
+  for (std::size_t r = 0; r < done.size(); ++r)
+    design_points.row(static_cast<Eigen::Index>(r)) << done[r].request.theta[0],
+        done[r].request.theta[1];
+  const std::vector<double> noise = {kAoRScatterDeg * kAoRScatterDeg, 0.0036};
+  const auto batch = choose_batch(cp, w, noise, design_points, 3, options);
+  ASSERT_EQ(batch.size(), 3u);
+  Eigen::MatrixXd chosen(3, 2);
+  double sum = 0.0;
+  for (Eigen::Index c = 0; c < 3; ++c) {
+    chosen.row(c) = batch[static_cast<std::size_t>(c)].theta.transpose();
+    sum += batch[static_cast<std::size_t>(c)].value;
+  }
+  EXPECT_NEAR(batch_variance_drop(cp, w, noise, chosen), sum, 1e-9 * std::max(1.0, sum));
+}
+
+// AdaptiveDesignOptions::space_filling_batch: the first batch after the start fills the
+// high-posterior set: its new points are min_separation from the runs and from each other,
+// lie where the posterior puts weight, say why they were chosen, and the design's record
+// still values the next batch (expected gain between 0 and 1).
+TEST(AdaptiveDesign, SpaceFillingBatchKeepsItsDistanceInsideTheHighPosteriorSet) {
+  AdaptiveDesignProblem problem{bounds(), recordings_at(0.2, 0.45, 2)};
+  AdaptiveDesignOptions options = test_options(2);
+  options.space_filling_batch = true;
+  AdaptiveDesign design(problem, options);
+  std::vector<RunResult> done;
+  for (const auto& r : design.next_runs({})) done.push_back({r, simulate(r)});
+  const auto next = design.next_runs(done);
+  ASSERT_EQ(next.size(), static_cast<std::size_t>(options.batch_size));
+  const CalibrationProblem cp(bounds(), design.latest_calibration()->targets);
+  const PosteriorWeights w = posterior_weights(cp, options);
+  std::vector<Eigen::VectorXd> taken;
+  for (const auto& r : done)
+    taken.push_back(cp.to_unit(Eigen::Vector2d(r.request.theta[0], r.request.theta[1])));
+  int filled = 0;
+  for (const auto& r : next) {
+    if (r.reason.find("space-filling") == std::string::npos) continue;  // a replicate
+    ++filled;
+    const Eigen::Vector2d theta(r.theta[0], r.theta[1]);
+    const Eigen::VectorXd u = cp.to_unit(theta);
+    for (const auto& t : taken) EXPECT_GE((u - t).norm(), options.min_separation);
+    taken.push_back(u);
+    bool on_a_weighted_node = false;
+    for (Eigen::Index g = 0; g < w.points.rows(); ++g)
+      on_a_weighted_node |= (w.points.row(g).transpose() - theta).norm() < 1e-12;
+    EXPECT_TRUE(on_a_weighted_node) << theta.transpose();
+  }
+  EXPECT_GE(filled, 1);
+  const auto& rec = design.history().batches.at(0);
+  EXPECT_GT(rec.expected_area_gain, 0.0);
+  EXPECT_LE(rec.expected_area_gain, 1.0);
+}
+
 TEST(AdaptiveDesign, OptionsValidateWithReadableErrors) {
   AdaptiveDesignOptions o;
   std::string error;
@@ -327,6 +411,15 @@ TEST(AdaptiveDesign, OptionsValidateWithReadableErrors) {
   o.calibration.confidence = 1.5;
   EXPECT_FALSE(o.Validate(&error));
   EXPECT_NE(error.find("confidence"), std::string::npos) << error;
+  o = AdaptiveDesignOptions{};
+  o.acquisition_weight_batches = 3;
+  EXPECT_FALSE(o.Validate(&error));
+  EXPECT_NE(error.find("acquisition_weight_batches must be 1 or 2, got 3"), std::string::npos)
+      << error;
+  o = AdaptiveDesignOptions{};
+  o.acquisition_tempering = 0.0;
+  EXPECT_FALSE(o.Validate(&error));
+  EXPECT_NE(error.find("acquisition_tempering must be in (0, 1]"), std::string::npos) << error;
   EXPECT_THROW(AdaptiveDesign({bounds(), {}}, AdaptiveDesignOptions{}), std::invalid_argument);
   auto four = bounds();
   four.push_back({"e", 0.1, 0.9});
