@@ -49,4 +49,23 @@ rolling_friction = 0.3
 )";
 }
 
+// A small periodic container slab and a 3-point design over mu_r: the study body of the
+// engine-dispatch tests, whose fake engines never run a real DEM.
+inline std::string small_container_design_tables() {
+  return R"(
+[apparatus.rectangular_container]
+width_m = 0.22
+height_m = 0.1
+thickness_diameters = 4.0
+boundary = "periodic"
+fill_mass_kg = 0.055
+coarse_graining_factor = 6.0
+shear_modulus_pa = 1.0e7
+
+[design]
+kind = "full_factorial"
+parameters = { mu_r = { lower = 0.1, upper = 0.3, levels = 3 } }
+)";
+}
+
 }  // namespace demcal::testing

@@ -47,20 +47,8 @@ fs::path write_study(const std::string& name, const std::string& engine_extra) {
   const fs::path dir = testing::fresh_dir("engine-design-cancel", name);
   testing::spit(dir / "sleeping_engine.sh", kSleepingEngine);
   testing::spit(dir / "study.toml", "[study]\nname = \"engine-cancel\"\nseed = 1\n\n" +
-                                        testing::sand_and_glass_tables() + R"(
-[apparatus.rectangular_container]
-width_m = 0.22
-height_m = 0.1
-thickness_diameters = 4.0
-boundary = "periodic"
-fill_mass_kg = 0.055
-coarse_graining_factor = 6.0
-shear_modulus_pa = 1.0e7
-
-[design]
-kind = "full_factorial"
-parameters = { mu_r = { lower = 0.1, upper = 0.3, levels = 3 } }
-
+                                        testing::sand_and_glass_tables() +
+                                        testing::small_container_design_tables() + R"(
 [engine]
 kind = "liggghts"
 launch = "sh )" + (dir / "sleeping_engine.sh").string() +

@@ -33,21 +33,8 @@ name = "engine-dispatch"
 seed = 1
 
 )" +
-    testing::sand_and_glass_tables() + extra +
-         R"(
-[apparatus.rectangular_container]
-width_m = 0.22
-height_m = 0.1
-thickness_diameters = 4.0
-boundary = "periodic"
-fill_mass_kg = 0.055
-coarse_graining_factor = 6.0
-shear_modulus_pa = 1.0e7
-
-[design]
-kind = "full_factorial"
-parameters = { mu_r = { lower = 0.1, upper = 0.3, levels = 3 } }
-)" + engine;
+         testing::sand_and_glass_tables() + extra + testing::small_container_design_tables() +
+         engine;
 }
 
 fs::path write_study(const std::string& name, const std::string& text) {
