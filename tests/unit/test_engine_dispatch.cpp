@@ -32,9 +32,8 @@ std::string study_text(const std::string& engine, const std::string& extra = "")
 name = "engine-dispatch"
 seed = 1
 
-)" +
-         testing::sand_and_glass_tables() + extra + testing::small_container_design_tables() +
-         engine;
+)" + testing::sand_and_glass_tables() +
+         extra + testing::small_container_design_tables() + engine;
 }
 
 fs::path write_study(const std::string& name, const std::string& text) {
@@ -165,7 +164,8 @@ TEST(EngineDispatch, AStatedSubstitutionLetsLammpsRunAndIsInTheKey) {
   // written with "rolling sds", and the run key says so (another deck, other runs).
   const std::string launch = "env DEMCAL_FAKE_ENGINE_NAME=LAMMPS " + kFake;
   const std::string base = "\n[engine]\nkind = \"lammps\"\nlaunch = \"" + launch + "\"\n";
-  const fs::path study = write_study("substitute", study_text(base + "allow_rolling_substitute = true\n"));
+  const fs::path study =
+      write_study("substitute", study_text(base + "allow_rolling_substitute = true\n"));
   const DoePlan plan = plan_doe(study, {}, {}, 1);
   ASSERT_FALSE(plan.runs.empty());
   const nlohmann::json& engine = plan.runs[0].key.key.at("engine");
