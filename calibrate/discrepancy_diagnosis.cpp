@@ -30,7 +30,9 @@ nlohmann::json vector_json(const Eigen::VectorXd& v) {
   return a;
 }
 
-std::string key_text(const std::string& setup, const std::string& observable) { return setup + " " + observable; }
+std::string key_text(const std::string& setup, const std::string& observable) {
+  return setup + " " + observable;
+}
 
 std::string factor_text(double log_b) {
   if (std::isnan(log_b)) return "n/a";
@@ -48,9 +50,14 @@ std::string interval_text(double lo, double hi) {
 // sensitivity's own uncertainty grows with the distance from where it was measured.
 class LinearizedExtension final : public surrogate::SurrogateModel {
  public:
-  LinearizedExtension(std::shared_ptr<const surrogate::SurrogateModel> base, std::vector<std::string> names,
-                      double sensitivity, double sensitivity_se, double off_value)
-      : base_(std::move(base)), names_(std::move(names)), s_(sensitivity), se_(sensitivity_se), phi0_(off_value) {}
+  LinearizedExtension(std::shared_ptr<const surrogate::SurrogateModel> base,
+                      std::vector<std::string> names, double sensitivity, double sensitivity_se,
+                      double off_value)
+      : base_(std::move(base)),
+        names_(std::move(names)),
+        s_(sensitivity),
+        se_(sensitivity_se),
+        phi0_(off_value) {}
 
   std::string kind() const override { return "linearized_extension"; }
   std::string description() const override {
@@ -85,7 +92,8 @@ class LinearizedExtension final : public surrogate::SurrogateModel {
  private:
   Eigen::Index base_inputs() const { return static_cast<Eigen::Index>(names_.size()) - 1; }
   void check(const Eigen::MatrixXd& points) const {
-    surrogate::detail::check_points("linearized extension", points, static_cast<Eigen::Index>(names_.size()));
+    surrogate::detail::check_points("linearized extension", points,
+                                    static_cast<Eigen::Index>(names_.size()));
   }
   std::shared_ptr<const surrogate::SurrogateModel> base_;
   std::vector<std::string> names_;
@@ -97,9 +105,10 @@ struct Inputs {
   std::vector<std::string> parameter_names;
 };
 
-Inputs check_inputs(const std::vector<ParameterBounds>& parameters, const std::vector<Target>& targets,
-                    const std::vector<CandidateModule>& candidates, const SetupVariables& setup_variables,
-                    const DiagnosisOptions& options) {
+Inputs check_inputs(const std::vector<ParameterBounds>& parameters,
+                    const std::vector<Target>& targets,
+                    const std::vector<CandidateModule>& candidates,
+                    const SetupVariables& setup_variables, const DiagnosisOptions& options) {
   validate(options);
   const CalibrationProblem all(parameters, targets);  // checks parameters and targets
   const std::string who = "diagnose_discrepancy: ";
@@ -110,7 +119,8 @@ Inputs check_inputs(const std::vector<ParameterBounds>& parameters, const std::v
   std::set<std::string> setups;
   for (std::size_t i = 0; i < targets.size(); ++i) {
     if (!index.emplace(std::make_pair(targets[i].setup, targets[i].observable), i).second)
-      throw std::invalid_argument(who + "target '" + key_text(targets[i].setup, targets[i].observable) +
+      throw std::invalid_argument(who + "target '" +
+                                  key_text(targets[i].setup, targets[i].observable) +
                                   "' is listed twice");
     setups.insert(targets[i].setup);
   }
@@ -121,45 +131,54 @@ Inputs check_inputs(const std::vector<ParameterBounds>& parameters, const std::v
       throw std::invalid_argument(who + "held-out target '" + key_text(k.setup, k.observable) +
                                   "' is not among the targets");
     if (held[it->second])
-      throw std::invalid_argument(who + "held-out target '" + key_text(k.setup, k.observable) + "' is listed twice");
+      throw std::invalid_argument(who + "held-out target '" + key_text(k.setup, k.observable) +
+                                  "' is listed twice");
     held[it->second] = true;
   }
   for (std::size_t i = 0; i < targets.size(); ++i) (held[i] ? in.held : in.fitted).push_back(i);
-  if (in.fitted.empty()) throw std::invalid_argument(who + "every target is held out: nothing to fit");
+  if (in.fitted.empty())
+    throw std::invalid_argument(who + "every target is held out: nothing to fit");
 
   for (const auto& [setup, vars] : setup_variables) {
     if (!setups.count(setup))
-      throw std::invalid_argument(who + "setup variables are given for setup '" + setup + "', which no target has");
+      throw std::invalid_argument(who + "setup variables are given for setup '" + setup +
+                                  "', which no target has");
     for (const auto& [name, value] : vars)
       if (!std::isfinite(value))
-        throw std::invalid_argument(who + "setup variable '" + name + "' of setup '" + setup + "' is not finite");
+        throw std::invalid_argument(who + "setup variable '" + name + "' of setup '" + setup +
+                                    "' is not finite");
   }
 
   std::set<std::string> names;
   for (const CandidateModule& c : candidates) {
-    validate(CandidateSignature{c.name, c.parameter, c.sensitivity, c.sensitivity_se}, targets.size());
+    validate(CandidateSignature{c.name, c.parameter, c.sensitivity, c.sensitivity_se},
+             targets.size());
     const std::string cw = who + "candidate '" + c.name + "'";
     if (!names.insert(c.name).second) throw std::invalid_argument(cw + " is listed twice");
-    if (std::find(in.parameter_names.begin(), in.parameter_names.end(), c.parameter.name) != in.parameter_names.end())
-      throw std::invalid_argument(cw + ": its parameter '" + c.parameter.name + "' is a base parameter");
+    if (std::find(in.parameter_names.begin(), in.parameter_names.end(), c.parameter.name) !=
+        in.parameter_names.end())
+      throw std::invalid_argument(cw + ": its parameter '" + c.parameter.name +
+                                  "' is a base parameter");
     std::vector<bool> seen(targets.size(), false);
     for (std::size_t e = 0; e < c.extended_targets.size(); ++e) {
       const Target& t = c.extended_targets[e];
       const std::string label = "extended target '" + key_text(t.setup, t.observable) + "'";
       const auto it = index.find({t.setup, t.observable});
-      if (it == index.end()) throw std::invalid_argument(cw + ": " + label + " is not among the targets");
+      if (it == index.end())
+        throw std::invalid_argument(cw + ": " + label + " is not among the targets");
       if (seen[it->second]) throw std::invalid_argument(cw + ": " + label + " is listed twice");
       seen[it->second] = true;
       if (!t.model) throw std::invalid_argument(cw + ": " + label + " has no surrogate model");
       if (t.model->input_dimension() != parameters.size() + 1)
-        throw std::invalid_argument(cw + ": " + label + ": its model has " + std::to_string(t.model->input_dimension()) +
-                                    " inputs, not " + std::to_string(parameters.size() + 1) +
+        throw std::invalid_argument(cw + ": " + label + ": its model has " +
+                                    std::to_string(t.model->input_dimension()) + " inputs, not " +
+                                    std::to_string(parameters.size() + 1) +
                                     " (the base parameters, then " + c.parameter.name + ")");
       const Target& base = targets[it->second];
       if (t.measured != base.measured || t.sigma_measured != base.sigma_measured)
-        throw std::invalid_argument(cw + ": " + label + " has measured " + fmt(t.measured, 6) + " +/- " +
-                                    fmt(t.sigma_measured, 6) + " but the target has " + fmt(base.measured, 6) +
-                                    " +/- " + fmt(base.sigma_measured, 6));
+        throw std::invalid_argument(cw + ": " + label + " has measured " + fmt(t.measured, 6) +
+                                    " +/- " + fmt(t.sigma_measured, 6) + " but the target has " +
+                                    fmt(base.measured, 6) + " +/- " + fmt(base.sigma_measured, 6));
     }
   }
   return in;
@@ -167,9 +186,9 @@ Inputs check_inputs(const std::vector<ParameterBounds>& parameters, const std::v
 
 // Every target extended into the candidate's parameter: its design where given, else to
 // first order. Returns the number of fitted targets that were linearized through `linearized`.
-std::vector<Target> extend_targets(const std::vector<ParameterBounds>& parameters, const std::vector<Target>& targets,
-                                   const CandidateModule& c, const std::vector<std::size_t>& fitted,
-                                   int* linearized) {
+std::vector<Target> extend_targets(const std::vector<ParameterBounds>& parameters,
+                                   const std::vector<Target>& targets, const CandidateModule& c,
+                                   const std::vector<std::size_t>& fitted, int* linearized) {
   std::vector<std::string> names;
   for (const ParameterBounds& b : parameters) names.push_back(b.name);
   names.push_back(c.parameter.name);
@@ -177,16 +196,17 @@ std::vector<Target> extend_targets(const std::vector<ParameterBounds>& parameter
   std::vector<bool> linear(targets.size(), false);
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const Target& base = targets[i];
-    const auto it = std::find_if(c.extended_targets.begin(), c.extended_targets.end(), [&](const Target& t) {
-      return t.setup == base.setup && t.observable == base.observable;
-    });
+    const auto it = std::find_if(
+        c.extended_targets.begin(), c.extended_targets.end(),
+        [&](const Target& t) { return t.setup == base.setup && t.observable == base.observable; });
     if (it != c.extended_targets.end()) {
       out.push_back(*it);
       continue;
     }
     Target t = base;
     const double se = c.sensitivity_se.empty() ? 0.0 : c.sensitivity_se[i];
-    t.model = std::make_shared<LinearizedExtension>(base.model, names, c.sensitivity[i], se, c.parameter.off_value);
+    t.model = std::make_shared<LinearizedExtension>(base.model, names, c.sensitivity[i], se,
+                                                    c.parameter.off_value);
     out.push_back(std::move(t));
     linear[i] = true;
   }
@@ -196,7 +216,8 @@ std::vector<Target> extend_targets(const std::vector<ParameterBounds>& parameter
   return out;
 }
 
-std::vector<Target> pick(const std::vector<Target>& targets, const std::vector<std::size_t>& indices) {
+std::vector<Target> pick(const std::vector<Target>& targets,
+                         const std::vector<std::size_t>& indices) {
   std::vector<Target> out;
   for (std::size_t i : indices) out.push_back(targets[i]);
   return out;
@@ -214,7 +235,8 @@ std::pair<double, double> grid_profile_interval(const CalibrationResult& r, doub
   std::vector<double> profile(axis.size(), std::numeric_limits<double>::infinity());
   for (std::size_t k = 0; k < reg.chi_squared.size(); ++k)
     profile[k / stride] = std::min(profile[k / stride], reg.chi_squared[k]);
-  const double least = std::min(*std::min_element(profile.begin(), profile.end()), r.minima.front().chi_squared);
+  const double least =
+      std::min(*std::min_element(profile.begin(), profile.end()), r.minima.front().chi_squared);
   const double threshold = least + gsl_cdf_chisq_Pinv(confidence, 1.0);
   std::size_t first = axis.size(), last = 0;
   for (std::size_t i = 0; i < axis.size(); ++i)
@@ -232,15 +254,17 @@ std::pair<double, double> grid_profile_interval(const CalibrationResult& r, doub
   return {lo, hi};
 }
 
-CandidateFit fit_candidate(const std::vector<ParameterBounds>& parameters, const std::vector<Target>& targets,
-                           const Inputs& in, const CandidateModule& c, const DiscrepancyDiagnosis& d,
+CandidateFit fit_candidate(const std::vector<ParameterBounds>& parameters,
+                           const std::vector<Target>& targets, const Inputs& in,
+                           const CandidateModule& c, const DiscrepancyDiagnosis& d,
                            const DiagnosisOptions& options) {
   CandidateFit f;
   f.name = c.name;
   f.parameter = c.parameter;
   std::vector<ParameterBounds> extended = parameters;
   extended.push_back({c.parameter.name, c.parameter.lower, c.parameter.upper});
-  const std::vector<Target> all = extend_targets(parameters, targets, c, in.fitted, &f.linearized_targets);
+  const std::vector<Target> all =
+      extend_targets(parameters, targets, c, in.fitted, &f.linearized_targets);
   f.calibration = calibrate(extended, pick(all, in.fitted), options.calibration);
   f.evidence = model_evidence(f.calibration, c.name);
   if (f.evidence.method != EvidenceMethod::none && d.base_evidence.method != EvidenceMethod::none)
@@ -284,29 +308,40 @@ TargetComparison comparison(const Target& t, bool held_out) {
 }
 
 // Predictions of `targets` at one point of `parameters`, as (mean, sigma_total, residual).
-TargetPredictions predict_at(const std::vector<ParameterBounds>& parameters, const std::vector<Target>& targets,
-                             const Eigen::VectorXd& point) {
+TargetPredictions predict_at(const std::vector<ParameterBounds>& parameters,
+                             const std::vector<Target>& targets, const Eigen::VectorXd& point) {
   return CalibrationProblem(parameters, targets).evaluate(point.transpose());
 }
 
 std::string summary_text(const DiscrepancyDiagnosis& d, const DiagnosisOptions& options) {
-  std::string s = options.deciding_detection ? options.deciding_detection->statement : d.detection.statement;
-  if (d.outcome == DiagnosisOutcome::reproduced || d.outcome == DiagnosisOutcome::untestable) return s;
+  std::string s =
+      options.deciding_detection ? options.deciding_detection->statement : d.detection.statement;
+  if (d.outcome == DiagnosisOutcome::reproduced || d.outcome == DiagnosisOutcome::untestable)
+    return s;
   if (d.location_available) s += " " + d.location.statement;
   if (d.outcome == DiagnosisOutcome::explained) {
     const CandidateFit& f = d.fits[static_cast<std::size_t>(d.chosen)];
     s += " Best explained by " + f.name + ": " + f.parameter.name + " = " + fmt(f.phi, 2) + " (" +
          interval_text(f.phi_lower, f.phi_upper) + "); Bayes factor " +
          factor_text(std::log(d.bayes_factor_over_next)) + " over " +
-         (d.next_candidate.empty() ? std::string("the base model") : d.next_candidate + ", the next candidate") +
+         (d.next_candidate.empty() ? std::string("the base model")
+                                   : d.next_candidate + ", the next candidate") +
          ". With it: chi2/dof = " + fmt(d.chi_square_per_dof_after, 2) + ".";
     return s;
   }
   if (d.fits.empty()) return s + " No candidate was recalibrated: the mismatch is unexplained.";
   const CandidateFit& best = d.fits.front();
+  if (!d.next_candidate.empty() && d.bayes_factor_over_base > 0.0 &&
+      std::log(d.bayes_factor_over_base) >= options.required_log_bayes_factor)
+    return s + " No candidate explains it alone: the best, " + best.name +
+           ", has a Bayes factor of " + factor_text(std::log(d.bayes_factor_over_next)) + " over " +
+           d.next_candidate + ", the next candidate (" +
+           factor_text(options.required_log_bayes_factor) +
+           " required), so the recordings cannot tell them apart. The mismatch is unexplained.";
   return s + " No candidate explains it: the best, " + best.name + ", has a Bayes factor of " +
          factor_text(std::log(d.bayes_factor_over_base)) + " over the base model (" +
-         factor_text(options.required_log_bayes_factor) + " required). The mismatch is unexplained.";
+         factor_text(options.required_log_bayes_factor) +
+         " required). The mismatch is unexplained.";
 }
 
 }  // namespace
@@ -319,10 +354,14 @@ CalibrationOptions diagnosis_calibration_defaults() {
 
 const char* to_string(DiagnosisOutcome outcome) {
   switch (outcome) {
-    case DiagnosisOutcome::reproduced: return "reproduced";
-    case DiagnosisOutcome::untestable: return "untestable";
-    case DiagnosisOutcome::explained: return "explained";
-    case DiagnosisOutcome::unexplained: return "unexplained";
+    case DiagnosisOutcome::reproduced:
+      return "reproduced";
+    case DiagnosisOutcome::untestable:
+      return "untestable";
+    case DiagnosisOutcome::explained:
+      return "explained";
+    case DiagnosisOutcome::unexplained:
+      return "unexplained";
   }
   return "untestable";
 }
@@ -332,7 +371,8 @@ void validate(const DiagnosisOptions& o) {
   if (!(o.alpha > 0.0 && o.alpha < 1.0))
     throw std::invalid_argument(who + "alpha must lie in (0, 1), got " + fmt(o.alpha, 6));
   if (o.leading_candidates < 0)
-    throw std::invalid_argument(who + "leading_candidates must be >= 0, got " + std::to_string(o.leading_candidates));
+    throw std::invalid_argument(who + "leading_candidates must be >= 0, got " +
+                                std::to_string(o.leading_candidates));
   if (!(o.required_log_bayes_factor >= 0.0) || !std::isfinite(o.required_log_bayes_factor))
     throw std::invalid_argument(who + "required_log_bayes_factor must be finite and >= 0, got " +
                                 fmt(o.required_log_bayes_factor, 6));
@@ -349,7 +389,8 @@ void validate(const DiagnosisOptions& o) {
 DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& parameters,
                                           const std::vector<Target>& targets,
                                           const std::vector<CandidateModule>& candidates,
-                                          const SetupVariables& setup_variables, const DiagnosisOptions& options) {
+                                          const SetupVariables& setup_variables,
+                                          const DiagnosisOptions& options) {
   const Inputs in = check_inputs(parameters, targets, candidates, setup_variables, options);
   const std::vector<Target> fitted = pick(targets, in.fitted);
   const std::vector<Target> held = pick(targets, in.held);
@@ -374,7 +415,8 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     }
     signatures.push_back(std::move(s));
   }
-  d.scores = rank_candidates(CalibrationProblem(parameters, fitted), theta0, signatures, score_options);
+  d.scores =
+      rank_candidates(CalibrationProblem(parameters, fitted), theta0, signatures, score_options);
 
   const Minimum& base_best = d.base.minima.front();
   for (std::size_t k = 0; k < fitted.size(); ++k) {
@@ -396,13 +438,16 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     }
   }
 
-  const MismatchDetection& deciding = options.deciding_detection ? *options.deciding_detection : d.detection;
+  const MismatchDetection& deciding =
+      options.deciding_detection ? *options.deciding_detection : d.detection;
   if (!deciding.mismatch()) {
     d.outcome = deciding.verdict == MismatchVerdict::untestable ? DiagnosisOutcome::untestable
-                                                                   : DiagnosisOutcome::reproduced;
+                                                                : DiagnosisOutcome::reproduced;
     d.scores_needed = false;
     if (!d.scores.empty())
-      d.notes.push_back("The candidates were scored for information only: without a mismatch no physics is added.");
+      d.notes.push_back(
+          "The candidates were scored for information only: without a mismatch no physics is "
+          "added.");
     d.summary = summary_text(d, options);
     return d;
   }
@@ -423,7 +468,8 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     if (sc.signature_within_noise) continue;
     if (recalibrated >= options.leading_candidates) {
       d.notes.push_back(sc.name + " was not recalibrated: ranked " + std::to_string(sc.rank) +
-                        " by the score test (leading_candidates = " + std::to_string(options.leading_candidates) + ").");
+                        " by the score test (leading_candidates = " +
+                        std::to_string(options.leading_candidates) + ").");
       continue;
     }
     const auto it = std::find_if(candidates.begin(), candidates.end(),
@@ -432,10 +478,12 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     ++recalibrated;
     const CandidateFit& f = d.fits.back();
     if (f.linearized_targets > 0)
-      d.notes.push_back(f.name + ": " + std::to_string(f.linearized_targets) + " of " + std::to_string(fitted.size()) +
-                        " fitted targets were extended to first order from the sensitivities (no extended design"
-                        " for them); trust the fit only near " + f.parameter.name + " = " +
-                        fmt(f.parameter.off_value) + ".");
+      d.notes.push_back(
+          f.name + ": " + std::to_string(f.linearized_targets) + " of " +
+          std::to_string(fitted.size()) +
+          " fitted targets were extended to first order from the sensitivities (no extended design"
+          " for them); trust the fit only near " +
+          f.parameter.name + " = " + fmt(f.parameter.off_value) + ".");
   }
   std::stable_sort(d.fits.begin(), d.fits.end(), [](const CandidateFit& a, const CandidateFit& b) {
     const double x = a.evidence.log_evidence, y = b.evidence.log_evidence;
@@ -449,11 +497,15 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     d.bayes_factor_over_base = best.over_base.bayes_factor;
     if (d.fits.size() > 1 && !std::isnan(d.fits[1].evidence.log_evidence)) {
       d.next_candidate = d.fits[1].name;
-      d.bayes_factor_over_next = std::exp(best.evidence.log_evidence - d.fits[1].evidence.log_evidence);
+      d.bayes_factor_over_next =
+          std::exp(best.evidence.log_evidence - d.fits[1].evidence.log_evidence);
     } else {
       d.bayes_factor_over_next = d.bayes_factor_over_base;
     }
-    if (best.over_base.log_bayes_factor >= options.required_log_bayes_factor) {
+    // Named only when it beats the base model and the next candidate by the margin: two
+    // candidates the recordings fit about equally well are not told apart by them.
+    if (best.over_base.log_bayes_factor >= options.required_log_bayes_factor &&
+        std::log(d.bayes_factor_over_next) >= options.required_log_bayes_factor) {
       d.outcome = DiagnosisOutcome::explained;
       d.chosen = 0;
     }
@@ -461,8 +513,9 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
 
   if (d.chosen >= 0) {
     const CandidateFit& f = d.fits.front();
-    const CandidateModule& c = *std::find_if(candidates.begin(), candidates.end(),
-                                             [&](const CandidateModule& m) { return m.name == f.name; });
+    const CandidateModule& c =
+        *std::find_if(candidates.begin(), candidates.end(),
+                      [&](const CandidateModule& m) { return m.name == f.name; });
     d.chi_square_per_dof_after = f.chi_square_per_dof;
     const Minimum& after = f.calibration.minima.front();
     for (std::size_t k = 0; k < fitted.size(); ++k) {
@@ -485,11 +538,12 @@ DiscrepancyDiagnosis diagnose_discrepancy(const std::vector<ParameterBounds>& pa
     }
   }
   for (const TargetComparison& t : d.held_out_targets)
-    d.notes.push_back("Held out " + key_text(t.setup, t.observable) + ": measured " + fmt(t.measured, 4) +
-                      ", predicted " + fmt(t.predicted_before, 4) + " (r = " + fmt(t.residual_before, 2) +
-                      ") by the base model" +
-                      (d.chosen >= 0 ? " and " + fmt(t.predicted_after, 4) + " (r = " + fmt(t.residual_after, 2) +
-                                           ") with " + d.fits.front().name
+    d.notes.push_back("Held out " + key_text(t.setup, t.observable) + ": measured " +
+                      fmt(t.measured, 4) + ", predicted " + fmt(t.predicted_before, 4) +
+                      " (r = " + fmt(t.residual_before, 2) + ") by the base model" +
+                      (d.chosen >= 0 ? " and " + fmt(t.predicted_after, 4) +
+                                           " (r = " + fmt(t.residual_after, 2) + ") with " +
+                                           d.fits.front().name
                                      : std::string()) +
                       ".");
   d.summary = summary_text(d, options);

@@ -10,8 +10,8 @@
 //   3. explain  score every candidate at the base fit (candidate_score.hpp); recalibrate
 //               the leading ones with theta and phi free, on their extended targets;
 //               BIC and log evidence of each and of the base model (model_evidence.hpp).
-//   4. model    the candidate of largest evidence, if it beats the base model by
-//               required_log_bayes_factor; else "unexplained mismatch".
+//   4. model    the candidate of largest evidence, if it beats the base model and the
+//               next candidate by required_log_bayes_factor; else "unexplained mismatch".
 //   5. compare  chi^2/dof, residuals per target and held-out predictions, before and after.
 //
 // The summary is what a user reads first, e.g. "The recordings are not reproduced
@@ -42,7 +42,7 @@ struct TargetKey {
 
 // A physics module that could be switched on, e.g. cohesion with surface_energy_j_m2.
 struct CandidateModule {
-  std::string name;  // unique, not empty
+  std::string name;              // unique, not empty
   CandidateParameter parameter;  // its name must differ from the base parameters'
   // d mean_i / d phi at the base fit and phi0, one entry per target passed to
   // diagnose_discrepancy (held-out ones included; they are not used), and their standard
@@ -66,7 +66,8 @@ struct DiagnosisOptions {
   double alpha = 0.01;
   // How many of the best-scored assessable candidates are recalibrated (>= 0).
   int leading_candidates = 2;
-  // The chosen module must beat the base model by this log Bayes factor (>= 0). The same
+  // The chosen module must beat the base model and the next candidate by this log Bayes
+  // factor (>= 0). The same
   // margin as ExplanationOptions::required_log_bayes_factor (calibrate/model_discrepancy.hpp),
   // so that one number decides: 3 is a Bayes factor of e^3 = 20, "strong" on Kass & Raftery's
   // scale.
@@ -101,7 +102,7 @@ struct TargetComparison {
 struct CandidateFit {
   std::string name;
   CandidateParameter parameter;
-  int linearized_targets = 0;  // fitted targets extended to first order (no design given)
+  int linearized_targets = 0;     // fitted targets extended to first order (no design given)
   CalibrationResult calibration;  // parameters: the base parameters, then phi
   ModelEvidence evidence;
   BayesFactor over_base;  // this model over the base model
@@ -120,7 +121,7 @@ struct CandidateFit {
 enum class DiagnosisOutcome {
   reproduced,   // no mismatch: no physics added
   untestable,   // too few targets for a test
-  explained,    // a module beats the base model by the required Bayes factor
+  explained,    // a module beats the base model and the next one by the required Bayes factor
   unexplained,  // mismatch, and no candidate explains it
 };
 const char* to_string(DiagnosisOutcome outcome);  // "reproduced", "untestable", ...
@@ -140,7 +141,8 @@ struct DiscrepancyDiagnosis {
   // next candidate by evidence (NaN and "" when there is none).
   double bayes_factor_over_base = 0.0, bayes_factor_over_next = 0.0;
   std::string next_candidate;
-  double chi_square_per_dof_before = 0.0, chi_square_per_dof_after = 0.0;  // after: NaN if none chosen
+  double chi_square_per_dof_before = 0.0,
+         chi_square_per_dof_after = 0.0;  // after: NaN if none chosen
   std::vector<TargetComparison> fitted_targets, held_out_targets;
   std::vector<std::string> notes;
   std::string summary;

@@ -309,41 +309,88 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
   d.required_log_bayes_factor = options.required_log_bayes_factor;
   d.log_bayes_factor_over_discrepancy = kNaN;
   d.log_bayes_factor_over_base = kNaN;
-  const ModelEvidence* best = nullptr;
-  for (const auto& c : candidates) {
-    if (c.method == EvidenceMethod::none || !std::isfinite(c.log_evidence)) continue;
-    if (!best || c.log_evidence > best->log_evidence) best = &c;
-  }
+  d.log_bayes_factor_over_runner_up = kNaN;
+  std::vector<const ModelEvidence*> assessed;  // largest evidence first
+  for (const auto& c : candidates)
+    if (c.method != EvidenceMethod::none && std::isfinite(c.log_evidence)) assessed.push_back(&c);
+  std::stable_sort(assessed.begin(), assessed.end(),
+                   [](const auto* a, const auto* b) { return a->log_evidence > b->log_evidence; });
+  const ModelEvidence* best = assessed.empty() ? nullptr : assessed.front();
+  const double margin = options.required_log_bayes_factor;
+  // Whether a candidate would be named on its own: it beats the generic discrepancy and the
+  // base model by the margin (a base without evidence does not stand in the way).
+  const auto beats_the_alternatives = [&](const ModelEvidence& c) {
+    const double over_base =
+        base.method == EvidenceMethod::none ? kNaN : bayes_factor(c, base).log_bayes_factor;
+    return bayes_factor(c, discrepancy.evidence).log_bayes_factor >= margin &&
+           !(over_base < margin);
+  };
   if (best) {
     d.best_candidate = best->model;
     d.log_bayes_factor_over_discrepancy =
         bayes_factor(*best, discrepancy.evidence).log_bayes_factor;
     d.log_bayes_factor_over_base =
         base.method == EvidenceMethod::none ? kNaN : bayes_factor(*best, base).log_bayes_factor;
+    if (assessed.size() > 1) {
+      d.runner_up = assessed[1]->model;
+      d.log_bayes_factor_over_runner_up = bayes_factor(*best, *assessed[1]).log_bayes_factor;
+    }
   }
   if (!detection.mismatch()) {
     d.verdict = Explanation::none_needed;
     d.statement = detection.statement;
     return d;
   }
-  const double margin = options.required_log_bayes_factor;
-  if (best && d.log_bayes_factor_over_discrepancy >= margin &&
-      !(d.log_bayes_factor_over_base < margin)) {
+  const bool best_beats_alternatives = best && beats_the_alternatives(*best);
+  // Two physics that both explain the recordings, neither by the margin over the other, are
+  // not told apart by these recordings: naming the one that happens to lead would be a
+  // guess (in the blind test, cohesion and a size spread both slow the sandglass and loosen
+  // its fill). The runner-up must be beaten by the same margin as the discrepancy.
+  if (best_beats_alternatives && !(d.log_bayes_factor_over_runner_up < margin)) {
     d.verdict = Explanation::physics;
     d.physics = best->model;
     d.statement = "The mismatch is explained by " + best->model + ": Bayes factor " +
                   fmt(std::exp(std::min(d.log_bayes_factor_over_discrepancy, 700.0)), 2) +
-                  " over a generic model discrepancy (required: " + fmt(std::exp(margin), 2) + ").";
+                  " over a generic model discrepancy (required: " + fmt(std::exp(margin), 2) + ")";
+    if (!d.runner_up.empty()) {
+      d.statement += ", ";
+      d.statement += fmt(std::exp(std::min(d.log_bayes_factor_over_runner_up, 700.0)), 2);
+      d.statement += " over ";
+      d.statement += d.runner_up;
+      d.statement += ", the next candidate";
+    }
+    d.statement += ".";
     return d;
   }
   d.verdict = Explanation::discrepancy;
+  if (best_beats_alternatives)
+    for (const ModelEvidence* c : assessed)
+      if (best->log_evidence - c->log_evidence < margin) d.indistinguishable.push_back(c->model);
   // Which observables and setups, how large: the named targets, largest |z| first.
   std::vector<const TargetDiscrepancy*> named;
   for (const auto& t : discrepancy.targets)
     if (t.named) named.push_back(&t);
   std::sort(named.begin(), named.end(),
             [](const auto* a, const auto* b) { return std::abs(a->z) > std::abs(b->z); });
-  std::string s = "The recordings differ from the model by a pattern no candidate explains";
+  std::string s;
+  if (!d.indistinguishable.empty()) {
+    s = "The mismatch is explained about as well by ";
+    for (std::size_t k = 0; k < d.indistinguishable.size(); ++k) {
+      if (k) s += k + 1 == d.indistinguishable.size() ? " as by " : ", by ";
+      s += d.indistinguishable[k];
+    }
+    s += " (Bayes factor ";
+    s += fmt(std::exp(std::clamp(d.log_bayes_factor_over_runner_up, -700.0, 700.0)), 2);
+    s += " of ";
+    s += best->model;
+    s += " over ";
+    s += d.runner_up;
+    s += ", required ";
+    s += fmt(std::exp(margin), 2);
+    s += "): these recordings cannot tell them apart, so no physics is named; a test that "
+         "sees one of them without the other would. ";
+  }
+  s += "The recordings differ from the model by a pattern no candidate explains";
   if (named.empty()) {
     s += ", spread over the targets with none standing out";
   } else {
@@ -368,12 +415,12 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
     }
   }
   s += ". ";
-  if (best)
+  if (d.indistinguishable.empty() && best)
     s += "The best candidate, " + best->model +
          ", is not better than a generic discrepancy by the required margin (Bayes factor " +
          fmt(std::exp(std::clamp(d.log_bayes_factor_over_discrepancy, -700.0, 700.0)), 2) +
          ", required " + fmt(std::exp(margin), 2) + "), so no physics is named. ";
-  else
+  else if (d.indistinguishable.empty())
     s += "No candidate could be assessed, so no physics is named. ";
   s += "With the discrepancy: ";
   for (std::size_t j = 0; j < discrepancy.parameter_names.size(); ++j)
@@ -421,6 +468,9 @@ nlohmann::json ExplanationDecision::to_json() const {
           {"best_candidate", best_candidate},
           {"log_bayes_factor_over_discrepancy", number_json(log_bayes_factor_over_discrepancy)},
           {"log_bayes_factor_over_base", number_json(log_bayes_factor_over_base)},
+          {"runner_up", runner_up},
+          {"log_bayes_factor_over_runner_up", number_json(log_bayes_factor_over_runner_up)},
+          {"indistinguishable", indistinguishable},
           {"required_log_bayes_factor", required_log_bayes_factor},
           {"statement", statement}};
 }

@@ -106,9 +106,9 @@ DiscrepancyEvidence discrepancy_evidence(const CalibrationProblem& base,
                                          const DiscrepancyOptions& options = {});
 
 struct ExplanationOptions {
-  // A physics is named only when its log evidence exceeds the discrepancy's (and the base
-  // model's) by at least this: 3.0 is a Bayes factor of e^3 = 20, the start of "strong"
-  // on Kass & Raftery's (1995) scale (2 ln B >= 6).
+  // A physics is named only when its log evidence exceeds the discrepancy's, the base
+  // model's and every other candidate's by at least this: 3.0 is a Bayes factor of
+  // e^3 = 20, the start of "strong" on Kass & Raftery's (1995) scale (2 ln B >= 6).
   double required_log_bayes_factor = 3.0;
 };
 
@@ -116,8 +116,9 @@ void validate(const ExplanationOptions& options);
 
 enum class Explanation {
   none_needed,  // no mismatch (or untestable): neither physics nor discrepancy
-  physics,      // a candidate beats the discrepancy and the base model by the margin
-  discrepancy,  // a mismatch that no candidate explains better than a generic discrepancy
+  physics,      // a candidate beats the discrepancy, the base model and the others by the margin
+  discrepancy,  // a mismatch that no single candidate explains better than a generic
+                // discrepancy and than every other candidate (see `indistinguishable`)
 };
 const char* to_string(Explanation explanation);  // "none_needed", "physics", "discrepancy"
 
@@ -127,6 +128,15 @@ struct ExplanationDecision {
   std::string best_candidate;  // largest evidence among the candidates; empty when none
   double log_bayes_factor_over_discrepancy = 0.0;  // best candidate over it; NaN: none
   double log_bayes_factor_over_base = 0.0;         // best candidate over base; NaN: none
+  // The candidate of second largest evidence, and the best one's log Bayes factor over it
+  // (NaN when fewer than two candidates have evidence).
+  std::string runner_up;
+  double log_bayes_factor_over_runner_up = 0.0;
+  // When the best candidate beats the discrepancy and the base by the margin but not every
+  // other candidate: the best and each candidate within the margin of it, largest evidence
+  // first. These recordings cannot tell them apart, so none is named (a wrong name is worse
+  // than none). Empty otherwise.
+  std::vector<std::string> indistinguishable;
   double required_log_bayes_factor = 3.0;
   // What a user reads first: for a discrepancy, which observables and setups differ, by how
   // much, and the parameters with their widened intervals.
@@ -136,8 +146,9 @@ struct ExplanationDecision {
 };
 
 // The rule: no mismatch -> none_needed; else the candidate of largest evidence is named
-// when it beats both the discrepancy and the base model by required_log_bayes_factor;
-// else discrepancy. Candidates without evidence (NaN) are skipped. Throws
+// when it beats the discrepancy, the base model and the runner-up candidate by
+// required_log_bayes_factor; else discrepancy (with `indistinguishable` filled when only
+// the runner-up stood in the way). Candidates without evidence (NaN) are skipped. Throws
 // std::invalid_argument when a candidate was fitted to other targets than the
 // discrepancy's (as bayes_factor).
 ExplanationDecision decide_explanation(const MismatchDetection& detection,
