@@ -46,6 +46,7 @@ from concurrent.futures import ThreadPoolExecutor
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 TRUTH = HERE / "truth"
+STUDIES = ROOT / "studies"  # where the studies are written; --truth-set fresh moves both
 OUT = ROOT / "out" / "concealed"  # --out replaces it
 REPEATS = 3
 SETUPS = ["sandglass", "container_walls", "container_periodic"]
@@ -64,6 +65,16 @@ INSTRUMENT = [
 def set_out(path):
     global OUT
     OUT = path.resolve()
+
+
+def set_truth_set(name):
+    """`original`: the five truths the method was developed on (truth/, studies/concealed-*).
+    `fresh`: truths made after the method was frozen, never used to tune anything
+    (truth-fresh/, their studies under fresh/studies/; tests/concealed/README.md)."""
+    global TRUTH, STUDIES
+    if name == "fresh":
+        TRUTH = HERE / "truth-fresh"
+        STUDIES = HERE / "fresh" / "studies"
 
 
 def series_observables(rec):
@@ -103,7 +114,7 @@ def truths():
 
 
 def study_file(name):
-    return ROOT / "studies" / name / "study.toml"
+    return STUDIES / name / "study.toml"
 
 
 def recordings_name(seed):
@@ -115,7 +126,8 @@ def step_studies(args):
     for t in truths():
         f = study_file(t["study"])
         f.parent.mkdir(parents=True, exist_ok=True)
-        text = template.replace("@NAME@", t["study"]).replace("@TITLE@", TITLES[t["study"]])
+        title = t.get("title", TITLES.get(t["study"], t["study"]))
+        text = template.replace("@NAME@", t["study"]).replace("@TITLE@", title)
         if not f.exists() or f.read_text() != text:
             f.write_text(text)
             print("wrote", f.relative_to(ROOT))
@@ -361,9 +373,12 @@ def main():
     p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
     p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
     p.add_argument("--min-identified", type=float, default=0.8)
+    p.add_argument("--truth-set", choices=["original", "fresh"], default="original",
+                   help="original: truth/ (the development set); fresh: truth-fresh/ (made after the method was frozen)")
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
     set_out(args.out)
+    set_truth_set(args.truth_set)
     if args.step == "check":
         step_check(args)
         return
