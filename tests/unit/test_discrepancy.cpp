@@ -10,6 +10,7 @@
 // sensitivity-noise term against Monte Carlo, the evidence on a grid against Laplace, and
 // input errors.
 #include "calibrate/discrepancy_diagnosis.hpp"
+#include "tests/support/analytic_world.hpp"
 
 #include <gtest/gtest.h>
 
@@ -31,86 +32,16 @@
 
 namespace {
 
-using namespace demcal::calibrate;
-using demcal::surrogate::LeaveOneOut;
-using demcal::surrogate::Prediction;
-using demcal::surrogate::SurrogateModel;
+using namespace demcal::testing::analytic_world;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// A surrogate given by a formula; its gradient by central differences (the formulas are
-// smooth, and 1e-6 steps give ~1e-9 relative accuracy, far below the noise).
-class AnalyticSurrogate final : public SurrogateModel {
- public:
-  using Function = std::function<double(const Eigen::VectorXd&)>;
-
-  AnalyticSurrogate(std::vector<std::string> names, Function mean) : names_(std::move(names)), mean_(std::move(mean)) {}
-
-  std::string kind() const override { return "analytic"; }
-  std::string description() const override { return "analytic test function"; }
-  std::size_t input_dimension() const override { return names_.size(); }
-  const std::vector<std::string>& input_names() const override { return names_; }
-
-  Prediction predict(const Eigen::MatrixXd& points) const override {
-    check(points);
-    Prediction p{Eigen::VectorXd(points.rows()), Eigen::VectorXd::Zero(points.rows())};
-    for (Eigen::Index i = 0; i < points.rows(); ++i) p.mean(i) = mean_(points.row(i).transpose());
-    return p;
-  }
-  Eigen::VectorXd predict_mean(const Eigen::MatrixXd& points) const override { return predict(points).mean; }
-  Eigen::MatrixXd gradient(const Eigen::MatrixXd& points) const override {
-    check(points);
-    Eigen::MatrixXd g(points.rows(), points.cols());
-    for (Eigen::Index i = 0; i < points.rows(); ++i)
-      for (Eigen::Index j = 0; j < points.cols(); ++j) {
-        Eigen::VectorXd a = points.row(i).transpose(), b = a;
-        const double h = 1e-6 * std::max(1.0, std::abs(a(j)));
-        a(j) += h;
-        b(j) -= h;
-        g(i, j) = (mean_(a) - mean_(b)) / (2.0 * h);
-      }
-    return g;
-  }
-  LeaveOneOut leave_one_out() const override { return {}; }
-
- private:
-  void check(const Eigen::MatrixXd& points) const {
-    demcal::surrogate::detail::check_points("analytic", points, static_cast<Eigen::Index>(names_.size()));
-  }
-  std::vector<std::string> names_;
-  Function mean_;
-};
-
-std::shared_ptr<const SurrogateModel> model(std::vector<std::string> names, AnalyticSurrogate::Function f) {
-  return std::make_shared<AnalyticSurrogate>(std::move(names), std::move(f));
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
 }
-
-// Gaussian draws from GSL's MT19937: the same on every platform.
-struct Normal {
-  explicit Normal(unsigned long seed) : rng(gsl_rng_alloc(gsl_rng_mt19937)) { gsl_rng_set(rng, seed); }
-  ~Normal() { gsl_rng_free(rng); }
-  Normal(const Normal&) = delete;
-  Normal& operator=(const Normal&) = delete;
-  double operator()() { return gsl_ran_gaussian(rng, 1.0); }
-  gsl_rng* rng;
-};
-
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // Member by member: GCC 12 raises a false -Wmaybe-uninitialized on nested braced
 // temporaries holding strings.
-CandidateSignature signature(const std::string& name, double lower, double upper, std::vector<double> s,
-                             std::vector<double> se = {}) {
+CandidateSignature signature(const std::string& name, double lower, double upper,
+                             std::vector<double> s, std::vector<double> se = {}) {
   CandidateSignature c;
   c.name = name;
   c.parameter.name = "phi";
@@ -121,187 +52,6 @@ CandidateSignature signature(const std::string& name, double lower, double upper
   c.sensitivity_se = std::move(se);
   return c;
 }
-
-// ---------------------------------------------------------------------------------------
-// The analytic world
-
-const std::vector<std::string> kBaseNames = {"mu_r", "mu_s"};
-const Eigen::Vector2d kTruth(0.3, 0.5);
-std::vector<ParameterBounds> base_bounds() { return {{"mu_r", 0.05, 0.8}, {"mu_s", 0.2, 0.9}}; }
-
-enum Effect { kNone = -1, kCohesion = 0, kWallFriction = 1, kMoisture = 2, kOrificeAor = 3 };
-constexpr int kCandidates = 3;  // kOrificeAor is no candidate: the blind case
-
-struct Spec {
-  std::string setup, observable;
-  double orifice_m = kNaN, thickness_d = kNaN;
-  bool time() const { return observable == "discharge_time_s"; }
-  bool sandglass() const { return !std::isnan(orifice_m); }
-};
-
-// The last two are held out of every fit: an orifice smaller than any fitted (the model
-// must extrapolate) and a container between two fitted thicknesses.
-std::vector<Spec> specs() {
-  std::vector<Spec> s;
-  for (const auto& [name, d] : std::vector<std::pair<std::string, double>>{
-           {"orifice_10mm", 0.010}, {"orifice_14mm", 0.014}, {"orifice_20mm", 0.020}}) {
-    s.push_back({name, "discharge_time_s", d, kNaN});
-    s.push_back({name, "angle_of_repose_deg", d, kNaN});
-  }
-  for (const auto& [name, h] : std::vector<std::pair<std::string, double>>{
-           {"container_2d", 2.0}, {"container_4d", 4.0}, {"container_8d", 8.0}})
-    s.push_back({name, "angle_of_repose_deg", kNaN, h});
-  s.push_back({"orifice_8mm", "discharge_time_s", 0.008, kNaN});
-  s.push_back({"container_3d", "angle_of_repose_deg", kNaN, 3.0});
-  return s;
-}
-constexpr std::size_t kHeldOutCount = 2;
-const std::vector<TargetKey> kHeldOut = {{"orifice_8mm", "discharge_time_s"}, {"container_3d", "angle_of_repose_deg"}};
-
-std::vector<Target> without_held_out(std::vector<Target> all) {
-  all.resize(all.size() - kHeldOutCount);
-  return all;
-}
-
-SetupVariables setup_variables() {
-  SetupVariables v;
-  for (const Spec& s : specs()) {
-    if (s.sandglass()) v[s.setup]["orifice_diameter_m"] = s.orifice_m;
-    else v[s.setup]["thickness_d"] = s.thickness_d;
-  }
-  return v;
-}
-
-double base_mean(const Spec& s, const Eigen::VectorXd& x) {
-  const double mu_r = x(0), mu_s = x(1);
-  if (s.time()) return 5.0 * std::pow(s.orifice_m / 0.014, -2.5) * (1.0 + 0.4 * mu_r + 1.2 * mu_s + 0.6 * mu_s * mu_s);
-  if (s.sandglass()) return 20.0 + 30.0 * mu_r + 12.0 * mu_s + 8.0 * mu_r * mu_r + 100.0 * (s.orifice_m - 0.014);
-  return 22.0 + 28.0 * mu_r + 14.0 * mu_s + 6.0 * mu_r * mu_s + 4.0 / s.thickness_d;
-}
-
-// What switching a module on adds, linear in phi.
-double effect(const Spec& s, const Eigen::VectorXd& x, int e, double phi) {
-  switch (e) {
-    case kCohesion:  // bridges slow small orifices most; a little extra AoR everywhere
-      return s.time() ? base_mean(s, x) * 3.0 * phi * std::pow(0.010 / s.orifice_m, 2) : 10.0 * phi;
-    case kWallFriction:  // walls hold the heap up in thin containers
-      return s.sandglass() ? 0.0 : 20.0 * phi / s.thickness_d;
-    case kMoisture:  // everything a little more resistant
-      return s.time() ? base_mean(s, x) * 2.0 * phi : 30.0 * phi;
-    case kOrificeAor:  // the sandglass heap follows the orifice: no candidate does that
-      return s.sandglass() && !s.time() ? phi * 400.0 * (s.orifice_m - 0.014) : 0.0;
-    default: return 0.0;
-  }
-}
-
-CandidateParameter candidate_parameter(int e) {
-  switch (e) {
-    case kCohesion: return {"surface_energy_j_m2", 0.0, 0.0, 0.2};
-    case kWallFriction: return {"wall_friction_coefficient", 0.0, 0.0, 1.0};
-    default: return {"moisture_content", 0.0, 0.0, 0.1};
-  }
-}
-const char* candidate_name(int e) {
-  return e == kCohesion ? "cohesion" : e == kWallFriction ? "wall_friction" : "moisture";
-}
-
-struct Sigmas {
-  double measured, dem;
-};
-Sigmas sigmas(const Spec& s) {
-  if (s.time()) {
-    const double t = base_mean(s, kTruth);
-    return {0.01 * t, 0.005 * t};
-  }
-  return {0.5, 0.3};
-}
-
-// y_i = truth + N(0, sigma_total), the noise the likelihood assumes.
-std::vector<double> record(int e, double phi, unsigned long seed) {
-  Normal n(seed);
-  std::vector<double> y;
-  for (const Spec& s : specs()) {
-    const Sigmas sg = sigmas(s);
-    y.push_back(base_mean(s, kTruth) + effect(s, kTruth, e, phi) + std::hypot(sg.measured, sg.dem) * n());
-  }
-  return y;
-}
-
-std::vector<Target> base_targets(const std::vector<double>& y) {
-  std::vector<Target> t;
-  const std::vector<Spec> all = specs();
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const Spec s = all[i];
-    const Sigmas sg = sigmas(s);
-    t.push_back({s.setup, s.observable, y[i], sg.measured, sg.dem,
-                 model(kBaseNames, [s](const Eigen::VectorXd& x) { return base_mean(s, x); }), true});
-  }
-  return t;
-}
-
-std::vector<Target> extended_targets(int e, const std::vector<double>& y) {
-  std::vector<Target> t = base_targets(y);
-  const std::vector<Spec> all = specs();
-  const std::vector<std::string> names = {"mu_r", "mu_s", candidate_parameter(e).name};
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const Spec s = all[i];
-    t[i].model = model(names, [s, e](const Eigen::VectorXd& x) { return base_mean(s, x) + effect(s, x, e, x(2)); });
-  }
-  return t;
-}
-
-CalibrationOptions quick_calibration() {
-  CalibrationOptions o = diagnosis_calibration_defaults();
-  o.multistart_points = 8;
-  o.grid_points_per_axis = 41;
-  o.grid_points_per_axis_3d = 21;
-  return o;
-}
-
-DiagnosisOptions quick_options() {
-  DiagnosisOptions o;
-  o.calibration = quick_calibration();
-  o.held_out = kHeldOut;
-  return o;
-}
-
-// The sensitivities a user would measure: a few DEM runs at the base fit with the module
-// off and on (4 replicates each, at half the parameter's range), so their standard error
-// is sqrt(2 / 4) sigma_dem / (range / 2), and the estimate carries that noise.
-CandidateModule candidate(int e, const Eigen::VectorXd& theta_hat, const std::vector<double>& y, Normal& noise) {
-  CandidateModule c;
-  c.name = candidate_name(e);
-  c.parameter = candidate_parameter(e);
-  const double step = 0.5 * (c.parameter.upper - c.parameter.lower);
-  for (const Spec& s : specs()) {
-    const double se = std::sqrt(2.0 / 4.0) * sigmas(s).dem / step;
-    c.sensitivity.push_back(effect(s, theta_hat, e, 1.0) + se * noise());
-    c.sensitivity_se.push_back(se);
-  }
-  c.extended_targets = extended_targets(e, y);
-  return c;
-}
-
-struct WorldRun {
-  DiscrepancyDiagnosis d;
-  std::vector<double> y;
-};
-
-WorldRun diagnose(int e, double phi, unsigned long seed, const DiagnosisOptions& options = quick_options()) {
-  WorldRun run;
-  run.y = record(e, phi, seed);
-  std::vector<Target> all = base_targets(run.y);
-  // The user calibrates first, then runs the DEM at the base fit for the sensitivities.
-  const CalibrationResult base = calibrate(base_bounds(), without_held_out(all), options.calibration);
-  Normal noise(seed + 7919);
-  std::vector<CandidateModule> candidates;
-  for (int k = 0; k < kCandidates; ++k) candidates.push_back(candidate(k, base.minima.front().theta, run.y, noise));
-  run.d = diagnose_discrepancy(base_bounds(), all, candidates, setup_variables(), options);
-  return run;
-}
-
-constexpr double kCohesionTruth = 0.05;
-constexpr double kWallTruth = 0.5;
 
 // ---------------------------------------------------------------------------------------
 // Detection
@@ -315,7 +65,9 @@ TEST(DiscrepancyDetection, VerdictsAndSentences) {
   const MismatchDetection good = detect_mismatch(5.6, 9, 2);
   EXPECT_EQ(good.verdict, MismatchVerdict::reproduced);
   EXPECT_NEAR(good.p_value, gsl_cdf_chisq_Q(5.6, 7), 1e-12);
-  EXPECT_EQ(good.statement, "The base model reproduces the recordings (chi2/dof = 0.8, p = 0.59): no physics is added.");
+  EXPECT_EQ(
+      good.statement,
+      "The base model reproduces the recordings (chi2/dof = 0.8, p = 0.59): no physics is added.");
   const MismatchDetection none = detect_mismatch(0.0, 2, 2);
   EXPECT_EQ(none.verdict, MismatchVerdict::untestable);
   EXPECT_TRUE(contains(none.statement, "cannot be made"));
@@ -323,22 +75,25 @@ TEST(DiscrepancyDetection, VerdictsAndSentences) {
   // The threshold is alpha's.
   EXPECT_FALSE(detect_mismatch(16.0, 9, 2, {0.01}).mismatch());  // p = 0.025
   EXPECT_TRUE(detect_mismatch(16.0, 9, 2, {0.05}).mismatch());
-  EXPECT_TRUE(contains(invalid_argument_message([] { detect_mismatch(1.0, 9, 2, {1.5}); }), "alpha"));
-  EXPECT_TRUE(contains(invalid_argument_message([] { detect_mismatch(-1.0, 9, 2); }), "chi_square"));
+  EXPECT_TRUE(
+      contains(invalid_argument_message([] { detect_mismatch(1.0, 9, 2, {1.5}); }), "alpha"));
+  EXPECT_TRUE(
+      contains(invalid_argument_message([] { detect_mismatch(-1.0, 9, 2); }), "chi_square"));
 }
 
 // ---------------------------------------------------------------------------------------
 // The workflow over seeds
 
 struct Tally {
-  int runs = 0, detected = 0, named = 0, phi_inside = 0, located = 0, trend = 0, subsets = 0, held_out_better = 0,
-      bic_prefers = 0, laplace_prefers = 0, bic_best = 0;
+  int runs = 0, detected = 0, named = 0, phi_inside = 0, located = 0, trend = 0, subsets = 0,
+      held_out_better = 0, bic_prefers = 0, laplace_prefers = 0, bic_best = 0;
   double held_out_before = 0.0, held_out_after = 0.0;  // sums over seeds of the held-out chi^2
-  double chi2_after_sum = 0.0, chi2_after_max = 0.0, bayes_factor_min = std::numeric_limits<double>::infinity();
+  double chi2_after_sum = 0.0, chi2_after_max = 0.0,
+         bayes_factor_min = std::numeric_limits<double>::infinity();
 };
 
-Tally run_effect(int e, double phi, int seeds, unsigned long first_seed, const std::string& observable,
-                 const std::string& variable) {
+Tally run_effect(int e, double phi, int seeds, unsigned long first_seed,
+                 const std::string& observable, const std::string& variable) {
   Tally t;
   for (int k = 0; k < seeds; ++k) {
     const WorldRun run = diagnose(e, phi, first_seed + static_cast<unsigned long>(k));
@@ -358,7 +113,8 @@ Tally run_effect(int e, double phi, int seeds, unsigned long first_seed, const s
         ++t.subsets;
         break;
       }
-    if (d.outcome != DiagnosisOutcome::explained || d.fits.front().name != candidate_name(e)) continue;
+    if (d.outcome != DiagnosisOutcome::explained || d.fits.front().name != candidate_name(e))
+      continue;
     ++t.named;
     const CandidateFit& f = d.fits.front();
     if (f.phi_lower <= phi && phi <= f.phi_upper) ++t.phi_inside;
@@ -379,15 +135,18 @@ Tally run_effect(int e, double phi, int seeds, unsigned long first_seed, const s
     t.held_out_after += after;
     if (after < before) ++t.held_out_better;
   }
-  std::printf("[figures] %s (phi = %g): %d seeds, detected %d, named %d, phi inside its 95 %% interval %d, "
-              "chi2/dof after mean %.2f max %.2f, min Bayes factor over the next %.3g, located in %s %d, trend with "
-              "%s %d, subsets disagree %d, held-out chi2 smaller %d (mean %.3g before, %.3g after), BIC and Laplace prefer it to "
-              "the base model %d and %d, BIC lowest among the fits %d\n",
-              candidate_name(e), phi, t.runs, t.detected, t.named, t.phi_inside,
-              t.named ? t.chi2_after_sum / t.named : kNaN, t.chi2_after_max, t.bayes_factor_min, observable.c_str(),
-              t.located, variable.c_str(), t.trend, t.subsets, t.held_out_better,
-              t.held_out_before / std::max(1, t.named), t.held_out_after / std::max(1, t.named), t.bic_prefers,
-              t.laplace_prefers, t.bic_best);
+  std::printf(
+      "[figures] %s (phi = %g): %d seeds, detected %d, named %d, phi inside its 95 %% interval %d, "
+      "chi2/dof after mean %.2f max %.2f, min Bayes factor over the next %.3g, located in %s %d, "
+      "trend with "
+      "%s %d, subsets disagree %d, held-out chi2 smaller %d (mean %.3g before, %.3g after), BIC "
+      "and Laplace prefer it to "
+      "the base model %d and %d, BIC lowest among the fits %d\n",
+      candidate_name(e), phi, t.runs, t.detected, t.named, t.phi_inside,
+      t.named ? t.chi2_after_sum / t.named : kNaN, t.chi2_after_max, t.bayes_factor_min,
+      observable.c_str(), t.located, variable.c_str(), t.trend, t.subsets, t.held_out_better,
+      t.held_out_before / std::max(1, t.named), t.held_out_after / std::max(1, t.named),
+      t.bic_prefers, t.laplace_prefers, t.bic_best);
   return t;
 }
 
@@ -408,13 +167,15 @@ void expect_found(const Tally& t) {
 }
 
 TEST(DiscrepancyDiagnosis, FindsCohesionAtSmallOrifices) {
-  const Tally t = run_effect(kCohesion, kCohesionTruth, 20, 1000, "discharge_time_s", "orifice_diameter_m");
+  const Tally t =
+      run_effect(kCohesion, kCohesionTruth, 20, 1000, "discharge_time_s", "orifice_diameter_m");
   expect_found(t);
   EXPECT_GE(t.trend, (4 * t.detected) / 5) << "the residuals follow the orifice size";
 }
 
 TEST(DiscrepancyDiagnosis, FindsWallFrictionInThinContainers) {
-  const Tally t = run_effect(kWallFriction, kWallTruth, 20, 2000, "angle_of_repose_deg", "thickness_d");
+  const Tally t =
+      run_effect(kWallFriction, kWallTruth, 20, 2000, "angle_of_repose_deg", "thickness_d");
   expect_found(t);
   EXPECT_GE(t.trend, (4 * t.detected) / 5) << "the residuals follow the container thickness";
 }
@@ -443,10 +204,11 @@ TEST(DiscrepancyDiagnosis, RaisesNoAlarmWithoutAnEffect) {
   }
   // No alarm in at least 1 - alpha - 3 binomial sd of the seeds.
   const double sd = std::sqrt(alpha * (1.0 - alpha) / kSeeds);
-  std::printf("[figures] null: %d seeds, %d alarms (false-alarm rate %.3f; allowed %.3f), %d named, %d "
-              "significant candidate scores of %d\n",
-              kSeeds, alarms, static_cast<double>(alarms) / kSeeds, alpha + 3.0 * sd, named, significant_scores,
-              3 * kSeeds);
+  std::printf(
+      "[figures] null: %d seeds, %d alarms (false-alarm rate %.3f; allowed %.3f), %d named, %d "
+      "significant candidate scores of %d\n",
+      kSeeds, alarms, static_cast<double>(alarms) / kSeeds, alpha + 3.0 * sd, named,
+      significant_scores, 3 * kSeeds);
   EXPECT_GE(1.0 - static_cast<double>(alarms) / kSeeds, 1.0 - alpha - 3.0 * sd);
 }
 
@@ -504,8 +266,10 @@ TEST(DiscrepancyDiagnosis, SaysUnexplainedWhenNoCandidateFits) {
       EXPECT_TRUE(contains(run.d.summary, "unexplained"));
     }
   }
-  std::printf("[figures] blind (sandglass AoR follows the orifice): %d seeds, detected %d, unexplained %d\n", kSeeds,
-              detected, unexplained);
+  std::printf(
+      "[figures] blind (sandglass AoR follows the orifice): %d seeds, detected %d, unexplained "
+      "%d\n",
+      kSeeds, detected, unexplained);
   EXPECT_GE(detected, 18);
   EXPECT_GE(unexplained, (9 * detected) / 10);
 }
@@ -530,9 +294,10 @@ TEST(DiscrepancyDiagnosis, ReportReadsAsDocumented) {
   // Every fit's interval holds its phi; a phi on its bound (a candidate the data do not
   // want) gets the grid profile instead of the covariance.
   for (const CandidateFit& g : d.fits) {
-    std::printf("[figures] fit %s: phi = %.4g [%.4g, %.4g] by %s, evidence by %s, log BF over base %.3g\n",
-                g.name.c_str(), g.phi, g.phi_lower, g.phi_upper, g.interval_method.c_str(),
-                to_string(g.evidence.method), g.over_base.log_bayes_factor);
+    std::printf(
+        "[figures] fit %s: phi = %.4g [%.4g, %.4g] by %s, evidence by %s, log BF over base %.3g\n",
+        g.name.c_str(), g.phi, g.phi_lower, g.phi_upper, g.interval_method.c_str(),
+        to_string(g.evidence.method), g.over_base.log_bayes_factor);
     EXPECT_LE(g.phi_lower, g.phi);
     EXPECT_GE(g.phi_upper, g.phi);
     if (g.phi == g.parameter.lower) {
@@ -574,14 +339,16 @@ TEST(DiscrepancyDiagnosis, LinearizedExtensionStandsInForAMissingDesign) {
   DiagnosisOptions options = quick_options();
   const std::vector<double> y = record(kWallFriction, kWallTruth, 2000);
   std::vector<Target> all = base_targets(y);
-  const CalibrationResult base = calibrate(base_bounds(), without_held_out(all), options.calibration);
+  const CalibrationResult base =
+      calibrate(base_bounds(), without_held_out(all), options.calibration);
   Normal noise(99);
   std::vector<CandidateModule> candidates;
   for (int k = 0; k < kCandidates; ++k) {
     candidates.push_back(candidate(k, base.minima.front().theta, y, noise));
     candidates.back().extended_targets.clear();
   }
-  const DiscrepancyDiagnosis d = diagnose_discrepancy(base_bounds(), all, candidates, setup_variables(), options);
+  const DiscrepancyDiagnosis d =
+      diagnose_discrepancy(base_bounds(), all, candidates, setup_variables(), options);
   ASSERT_EQ(d.outcome, DiagnosisOutcome::explained);
   EXPECT_EQ(d.fits.front().name, "wall_friction");
   EXPECT_EQ(d.fits.front().linearized_targets, 9);
@@ -667,9 +434,12 @@ struct LinearWorld {
       const double ci = c(i), si = s(i);
       std::string name = "y";
       name += std::to_string(i);
-      auto f = with_phi ? model({"mu_r", "mu_s", "phi"},
-                                [g, ci, si](const Eigen::VectorXd& x) { return ci + g.dot(x.head(2)) + si * x(2); })
-                        : model(kBaseNames, [g, ci](const Eigen::VectorXd& x) { return ci + g.dot(x); });
+      auto f = with_phi
+                   ? model({"mu_r", "mu_s", "phi"},
+                           [g, ci, si](const Eigen::VectorXd& x) {
+                             return ci + g.dot(x.head(2)) + si * x(2);
+                           })
+                   : model(kBaseNames, [g, ci](const Eigen::VectorXd& x) { return ci + g.dot(x); });
       t.push_back({"setup", name, y(i), sigma(i), 0.0, f, true});
     }
     return t;
@@ -696,7 +466,8 @@ TEST(DiscrepancyScore, LagrangeMultiplierIsTheChiSquareDropOfALinearModel) {
   for (unsigned long seed = 1; seed <= 5; ++seed) {
     Normal n(seed);
     Eigen::VectorXd y(6);
-    for (Eigen::Index i = 0; i < 6; ++i) y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
+    for (Eigen::Index i = 0; i < 6; ++i)
+      y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
     const CalibrationResult base = calibrate(bounds, w.targets(y, false), quick_calibration());
     const CalibrationProblem problem(bounds, w.targets(y, false));
     // The sign the score test relies on: d r / d theta = -(d f / d theta) / sigma.
@@ -727,7 +498,8 @@ TEST(DiscrepancyScore, LagrangeMultiplierPredictsTheDropOfTheAnalyticWorld) {
     if (!d.detection.mismatch()) continue;
     for (const CandidateFit& f : d.fits) {
       if (f.name != "cohesion") continue;
-      const double drop = d.base.minima.front().chi_squared - f.calibration.minima.front().chi_squared;
+      const double drop =
+          d.base.minima.front().chi_squared - f.calibration.minima.front().chi_squared;
       for (const CandidateScore& s : d.scores)
         if (s.name == "cohesion") {
           worst = std::max(worst, std::abs(s.lagrange_multiplier_plain - drop) / drop);
@@ -743,9 +515,11 @@ TEST(DiscrepancyScore, SensitivityNoiseTermMatchesMonteCarlo) {
   const std::vector<ParameterBounds> bounds = {{"mu_r", -1.0, 2.0}, {"mu_s", -1.0, 2.0}};
   Normal n(17);
   Eigen::VectorXd y(6);
-  for (Eigen::Index i = 0; i < 6; ++i) y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
+  for (Eigen::Index i = 0; i < 6; ++i)
+    y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
   const CalibrationProblem problem(bounds, w.targets(y, false));
-  const Eigen::VectorXd theta = calibrate(bounds, w.targets(y, false), quick_calibration()).minima.front().theta;
+  const Eigen::VectorXd theta =
+      calibrate(bounds, w.targets(y, false), quick_calibration()).minima.front().theta;
   const Eigen::VectorXd tau = 0.2 * w.s.cwiseAbs();
   const CandidateSignature exact = signature("effect", -5.0, 5.0, {w.s.data(), w.s.data() + 6});
   CandidateSignature noisy = exact;
@@ -764,15 +538,18 @@ TEST(DiscrepancyScore, SensitivityNoiseTermMatchesMonteCarlo) {
   Normal m(23);
   for (int k = 0; k < kDraws; ++k) {
     CandidateSignature draw = exact;
-    for (std::size_t i = 0; i < 6; ++i) draw.sensitivity[i] += tau(static_cast<Eigen::Index>(i)) * m();
+    for (std::size_t i = 0; i < 6; ++i)
+      draw.sensitivity[i] += tau(static_cast<Eigen::Index>(i)) * m();
     const CandidateScore sc = score_candidate(problem, theta, draw);
     const double t = sc.lagrange_multiplier_plain / sc.phi_step;
     sum += t;
     sum2 += t * t;
   }
   const double mc = sum2 / kDraws - (sum / kDraws) * (sum / kDraws);
-  std::printf("[figures] sensitivity-noise term: stated %.4g, Monte Carlo (4000 draws) %.4g; LM %.3g -> %.3g\n", stated,
-              mc, a.lagrange_multiplier, b.lagrange_multiplier);
+  std::printf(
+      "[figures] sensitivity-noise term: stated %.4g, Monte Carlo (4000 draws) %.4g; LM %.3g -> "
+      "%.3g\n",
+      stated, mc, a.lagrange_multiplier, b.lagrange_multiplier);
   // 4000 draws estimate a variance to ~2.2 % (sd); 10 % is over 4 sd.
   EXPECT_NEAR(mc, stated, 0.1 * stated);
 }
@@ -782,9 +559,11 @@ TEST(DiscrepancyScore, SignNoiseAndConfoundingAreReported) {
   const std::vector<ParameterBounds> bounds = {{"mu_r", -1.0, 2.0}, {"mu_s", -1.0, 2.0}};
   Normal n(5);
   Eigen::VectorXd y(6);
-  for (Eigen::Index i = 0; i < 6; ++i) y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
+  for (Eigen::Index i = 0; i < 6; ++i)
+    y(i) = w.c(i) + w.a.row(i).dot(kTruth) + w.s(i) * 0.4 + w.sigma(i) * n();
   const CalibrationProblem problem(bounds, w.targets(y, false));
-  const Eigen::VectorXd theta = calibrate(bounds, w.targets(y, false), quick_calibration()).minima.front().theta;
+  const Eigen::VectorXd theta =
+      calibrate(bounds, w.targets(y, false), quick_calibration()).minima.front().theta;
   const std::vector<double> s(w.s.data(), w.s.data() + 6);
   std::vector<double> minus_s;
   for (double v : s) minus_s.push_back(-v);
@@ -806,20 +585,22 @@ TEST(DiscrepancyScore, SignNoiseAndConfoundingAreReported) {
     tiny.push_back(0.01 * v);
     tiny_se.push_back(0.05 * std::abs(v));
   }
-  const CandidateScore noise = score_candidate(problem, theta, signature("noise", 0.0, 5.0, tiny, tiny_se));
+  const CandidateScore noise =
+      score_candidate(problem, theta, signature("noise", 0.0, 5.0, tiny, tiny_se));
   EXPECT_EQ(noise.status, ScoreStatus::cannot_be_assessed);
   EXPECT_TRUE(contains(noise.statement, "cannot be assessed"));
 
   // d mean / d mu_s: a change of mu_s does exactly this.
   std::vector<double> like_mu_s;
   for (Eigen::Index i = 0; i < 6; ++i) like_mu_s.push_back(w.a(i, 1));
-  const CandidateScore conf = score_candidate(problem, theta, signature("mimic", 0.0, 5.0, like_mu_s));
+  const CandidateScore conf =
+      score_candidate(problem, theta, signature("mimic", 0.0, 5.0, like_mu_s));
   EXPECT_EQ(conf.status, ScoreStatus::confounded);
 
-  const auto ranked = rank_candidates(problem, theta,
-                                      {signature("noise", 0.0, 5.0, tiny, tiny_se),
-                                       signature("down", 0.0, 5.0, minus_s),
-                                       signature("up", 0.0, 5.0, s)});
+  const auto ranked =
+      rank_candidates(problem, theta,
+                      {signature("noise", 0.0, 5.0, tiny, tiny_se),
+                       signature("down", 0.0, 5.0, minus_s), signature("up", 0.0, 5.0, s)});
   EXPECT_EQ(ranked[0].name, "up");
   EXPECT_EQ(ranked[1].name, "down");
   EXPECT_EQ(ranked[2].name, "noise");
@@ -841,8 +622,10 @@ TEST(DiscrepancyScore, AParameterPressedAgainstItsBoundCannotMimicACandidate) {
   const Eigen::VectorXd theta = base.minima.front().theta;
   ASSERT_NEAR(theta(1), 0.9, 1e-6) << "the fit should be pinned at mu_s = 0.9";
   std::vector<double> like_mu_s;
-  for (Eigen::Index i = 0; i < 6; ++i) like_mu_s.push_back(-w.a(i, 1));  // phi > 0 lowers what mu_s raises
-  const CandidateScore score = score_candidate(problem, theta, signature("lower", 0.0, 5.0, like_mu_s));
+  for (Eigen::Index i = 0; i < 6; ++i)
+    like_mu_s.push_back(-w.a(i, 1));  // phi > 0 lowers what mu_s raises
+  const CandidateScore score =
+      score_candidate(problem, theta, signature("lower", 0.0, 5.0, like_mu_s));
   EXPECT_EQ(score.status, ScoreStatus::assessed) << score.statement;
   EXPECT_TRUE(score.significant);
   // What the candidate does, checked by refitting with phi free. Not exact, as it is for a
@@ -861,16 +644,20 @@ TEST(DiscrepancyScore, AParameterPressedAgainstItsBoundCannotMimicACandidate) {
   // candidate, and the test still runs (it once crashed on the empty projector).
   const std::vector<ParameterBounds> corner = {{"mu_r", kTruth(0) + 0.5, 2.0}, {"mu_s", 0.9, 2.0}};
   const CalibrationProblem pinned(corner, w.targets(y, false));
-  const Eigen::VectorXd at_corner = calibrate(corner, w.targets(y, false), quick_calibration()).minima.front().theta;
-  const CandidateScore both = score_candidate(pinned, at_corner, signature("lower", 0.0, 5.0, like_mu_s));
+  const Eigen::VectorXd at_corner =
+      calibrate(corner, w.targets(y, false), quick_calibration()).minima.front().theta;
+  const CandidateScore both =
+      score_candidate(pinned, at_corner, signature("lower", 0.0, 5.0, like_mu_s));
   EXPECT_NEAR(both.orthogonal_fraction, 1.0, 1e-12);
   EXPECT_EQ(both.status, ScoreStatus::assessed);
   // Inside the box the same signature is the base model's own direction: confounded.
   const std::vector<ParameterBounds> wide = {{"mu_r", -1.0, 2.0}, {"mu_s", -1.0, 2.0}};
   const CalibrationProblem free_problem(wide, w.targets(y, false));
-  const Eigen::VectorXd free_theta = calibrate(wide, w.targets(y, false), quick_calibration()).minima.front().theta;
-  EXPECT_EQ(score_candidate(free_problem, free_theta, signature("lower", 0.0, 5.0, like_mu_s)).status,
-            ScoreStatus::confounded);
+  const Eigen::VectorXd free_theta =
+      calibrate(wide, w.targets(y, false), quick_calibration()).minima.front().theta;
+  EXPECT_EQ(
+      score_candidate(free_problem, free_theta, signature("lower", 0.0, 5.0, like_mu_s)).status,
+      ScoreStatus::confounded);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -897,11 +684,13 @@ TEST(DiscrepancyEvidence, GridAndLaplaceAgreeOnAGaussianCase) {
   const Eigen::MatrixXd jw = w.sigma.cwiseInverse().asDiagonal() * w.a;
   const Eigen::Matrix2d cov = (jw.transpose() * jw).inverse();
   double norm = 0.0;
-  for (Eigen::Index i = 0; i < 6; ++i) norm += std::log(2.0 * std::numbers::pi * w.sigma(i) * w.sigma(i));
+  for (Eigen::Index i = 0; i < 6; ++i)
+    norm += std::log(2.0 * std::numbers::pi * w.sigma(i) * w.sigma(i));
   const double exact = -0.5 * (r.minima.front().chi_squared + norm) - std::log(0.2 * 0.3) +
                        std::log(2.0 * std::numbers::pi) + 0.5 * std::log(cov.determinant());
-  std::printf("[figures] evidence, Gaussian case: Laplace %.6f, grid (121^2) %.6f, closed form %.6f\n",
-              e.log_evidence_laplace, e.log_evidence_grid, exact);
+  std::printf(
+      "[figures] evidence, Gaussian case: Laplace %.6f, grid (121^2) %.6f, closed form %.6f\n",
+      e.log_evidence_laplace, e.log_evidence_grid, exact);
   EXPECT_NEAR(e.log_evidence_laplace, exact, 1e-6);
   EXPECT_NEAR(e.log_evidence_grid, e.log_evidence_laplace, 0.01);
   EXPECT_NEAR(e.bic, r.minima.front().chi_squared + norm + 2.0 * std::log(6.0), 1e-9);
@@ -912,9 +701,11 @@ TEST(DiscrepancyEvidence, GridAndLaplaceAgreeOnAGaussianCase) {
   for (Eigen::Index i = 0; i < 6; ++i) y3(i) += w.s(i) * 0.4;
   std::vector<ParameterBounds> b3 = bounds;
   b3.push_back({"phi", -0.1, 0.9});
-  const ModelEvidence wide = model_evidence(calibrate(b3, w.targets(y3, true), quick_calibration()), "wide");
-  std::printf("[figures] evidence, 3 parameters, bounds > 5 sd away: Laplace %.5f, grid (21^3) %.5f\n",
-              wide.log_evidence_laplace, wide.log_evidence_grid);
+  const ModelEvidence wide =
+      model_evidence(calibrate(b3, w.targets(y3, true), quick_calibration()), "wide");
+  std::printf(
+      "[figures] evidence, 3 parameters, bounds > 5 sd away: Laplace %.5f, grid (21^3) %.5f\n",
+      wide.log_evidence_laplace, wide.log_evidence_grid);
   EXPECT_NEAR(wide.log_evidence_grid, wide.log_evidence_laplace, 0.01);
 
   // phi's bounds about 2.3 sd from the optimum: the grid integrates only the mass inside,
@@ -924,9 +715,11 @@ TEST(DiscrepancyEvidence, GridAndLaplaceAgreeOnAGaussianCase) {
   const ModelEvidence e3 = model_evidence(cut, "cut");
   const double phi = cut.minima.front().theta(2), se = cut.minima.front().standard_errors[2];
   const double mass = gsl_cdf_ugaussian_P((0.6 - phi) / se) - gsl_cdf_ugaussian_P((0.2 - phi) / se);
-  std::printf("[figures] evidence, phi bounds 2.3 sd away: Laplace %.5f, grid (21^3) %.5f, Laplace + log(mass "
-              "inside) %.5f\n",
-              e3.log_evidence_laplace, e3.log_evidence_grid, e3.log_evidence_laplace + std::log(mass));
+  std::printf(
+      "[figures] evidence, phi bounds 2.3 sd away: Laplace %.5f, grid (21^3) %.5f, Laplace + "
+      "log(mass "
+      "inside) %.5f\n",
+      e3.log_evidence_laplace, e3.log_evidence_grid, e3.log_evidence_laplace + std::log(mass));
   EXPECT_NEAR(e3.log_evidence_grid, e3.log_evidence_laplace + std::log(mass), 0.005);
 }
 
@@ -941,8 +734,10 @@ TEST(DiscrepancyEvidence, BayesFactorReadingsAndChecks) {
   const CalibrationResult base = calibrate(base_bounds(), fitted, quick_calibration());
   std::vector<ParameterBounds> ext = base_bounds();
   ext.push_back({"wall_friction_coefficient", 0.0, 1.0});
-  const CalibrationResult wall = calibrate(ext, without_held_out(extended_targets(kWallFriction, y)), quick_calibration());
-  const BayesFactor f = bayes_factor(model_evidence(wall, "wall_friction"), model_evidence(base, "base"));
+  const CalibrationResult wall =
+      calibrate(ext, without_held_out(extended_targets(kWallFriction, y)), quick_calibration());
+  const BayesFactor f =
+      bayes_factor(model_evidence(wall, "wall_friction"), model_evidence(base, "base"));
   EXPECT_GT(f.log_bayes_factor, std::log(150.0));
   EXPECT_LT(f.delta_bic, 0.0);
   EXPECT_EQ(f.reading.rfind("wall_friction is favoured over base: Bayes factor", 0), 0u);
@@ -969,7 +764,8 @@ TEST(DiscrepancyDiagnosis, BadInputsNameTheOffender) {
     return c;
   };
   const auto message = [&](const std::vector<CandidateModule>& c, const DiagnosisOptions& o,
-                           const SetupVariables& v = setup_variables(), const std::vector<Target>& t = {}) {
+                           const SetupVariables& v = setup_variables(),
+                           const std::vector<Target>& t = {}) {
     return invalid_argument_message(
         [&] { diagnose_discrepancy(base_bounds(), t.empty() ? all : t, c, v, o); });
   };
@@ -977,7 +773,9 @@ TEST(DiscrepancyDiagnosis, BadInputsNameTheOffender) {
   std::vector<CandidateModule> c = make();
   c[1].sensitivity.pop_back();
   std::string m = message(c, quick_options());
-  EXPECT_TRUE(contains(m, "wall_friction") && contains(m, "sensitivity has 10 entries but there are 11 targets")) << m;
+  EXPECT_TRUE(contains(m, "wall_friction") &&
+              contains(m, "sensitivity has 10 entries but there are 11 targets"))
+      << m;
 
   c = make();
   c[0].sensitivity_se.resize(3);
@@ -987,7 +785,9 @@ TEST(DiscrepancyDiagnosis, BadInputsNameTheOffender) {
   DiagnosisOptions o = quick_options();
   o.held_out.push_back({"orifice_99mm", "discharge_time_s"});
   m = message(make(), o);
-  EXPECT_TRUE(contains(m, "held-out target 'orifice_99mm discharge_time_s' is not among the targets")) << m;
+  EXPECT_TRUE(
+      contains(m, "held-out target 'orifice_99mm discharge_time_s' is not among the targets"))
+      << m;
 
   o = quick_options();
   o.held_out.push_back(kHeldOut.front());
@@ -1008,15 +808,19 @@ TEST(DiscrepancyDiagnosis, BadInputsNameTheOffender) {
   c = make();
   c[0].extended_targets[2].model = model(kBaseNames, [](const Eigen::VectorXd&) { return 0.0; });
   m = message(c, quick_options());
-  EXPECT_TRUE(contains(m, "cohesion") && contains(m, "orifice_14mm discharge_time_s") && contains(m, "3")) << m;
+  EXPECT_TRUE(contains(m, "cohesion") && contains(m, "orifice_14mm discharge_time_s") &&
+              contains(m, "3"))
+      << m;
 
   c = make();
   c[0].extended_targets[1].measured += 1.0;
-  EXPECT_TRUE(contains(message(c, quick_options()), "extended target 'orifice_10mm angle_of_repose_deg' has measured"));
+  EXPECT_TRUE(contains(message(c, quick_options()),
+                       "extended target 'orifice_10mm angle_of_repose_deg' has measured"));
 
   c = make();
   c[1].extended_targets[0].setup = "orifice_99mm";
-  EXPECT_TRUE(contains(message(c, quick_options()), "extended target 'orifice_99mm discharge_time_s' is not among"));
+  EXPECT_TRUE(contains(message(c, quick_options()),
+                       "extended target 'orifice_99mm discharge_time_s' is not among"));
 
   SetupVariables v = setup_variables();
   v["hopper"]["angle_deg"] = 30.0;
