@@ -15,7 +15,13 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root,
   CalibrationConfig c;
   // Without raw series the CSV is the only source of recordings, so the key is required
   // (and its absence reported as before).
-  if (!has_raw_recordings || t.has("recordings")) {
+  if (!has_raw_recordings && !t.has("recordings"))
+    // Name both ways in, so that a laboratory with only profiles and m(t) files learns of the
+    // second.
+    t.fail("recordings",
+           "missing required key; expected a string (the path of the recordings CSV), or a "
+           "[raw_recordings] table giving each setup's surface profiles and mass series");
+  if (t.has("recordings")) {
     const std::string rec = t.string("recordings");
     if (rec.empty())
       t.fail("recordings", "expected the path of the recordings CSV, got an empty string");
