@@ -120,8 +120,8 @@ ResolvedCandidate resolve(const PhysicsCandidate& c, const StudyConfig& study,
 // parameter's key exists) and `design` with the base parameters and the
 // candidate's, as the text of a study file (study/derived_study.hpp).
 std::string derived_study(const StudySource& source, const std::string& name,
-                          const ResolvedCandidate& c,
-                          const std::vector<DerivedParameter>& base, DerivedDesignTable design) {
+                          const ResolvedCandidate& c, const std::vector<DerivedParameter>& base,
+                          DerivedDesignTable design) {
   ConfigDocument doc = source.document();
   toml::table& t = doc.table;
   for (const char* k : {"design", "calibration", "diagnosis", "output", "raw_recordings"})
@@ -165,10 +165,11 @@ std::string base_extension_study(const StudySource& source, const std::string& n
   s.insert_or_assign("name", name);
   t.insert_or_assign("study", std::move(s));
   DerivedStudyFile file;
-  file.header = {"Written by `demcal diagnose`: the base design extended where the base fit "
-                 "needs it (a bound, or surrogates less sure than the DEM's scatter).",
-                 "Run it again with `demcal doe` on this file; edits are overwritten by the next "
-                 "diagnosis."};
+  file.header = {
+      "Written by `demcal diagnose`: the base design extended where the base fit "
+      "needs it (a bound, or surrogates less sure than the DEM's scatter).",
+      "Run it again with `demcal doe` on this file; edits are overwritten by the next "
+      "diagnosis."};
   file.study = t;
   file.design = std::move(design);
   return derived_study_text(file);
@@ -390,11 +391,11 @@ void write_report(const fs::path& dir, const std::string& study_name,
                   const std::vector<std::string>& recording_lines,
                   const std::vector<std::string>& design_lines,
                   const std::vector<std::string>& cost_lines, const fs::path& json_file) {
+  using calibrate::bar_figure;
   using calibrate::BarSeries;
   using calibrate::DiscrepancyEvidence;
   using calibrate::Explanation;
   using calibrate::HtmlReport;
-  using calibrate::bar_figure;
   using calibrate::p_value_text;
   fs::create_directories(dir);
   HtmlReport r("demcal diagnosis: " + study_name);
@@ -526,20 +527,19 @@ void write_report(const fs::path& dir, const std::string& study_name,
             frows, "The leading candidates recalibrated with their parameter free");
   if (judgement.available) {
     const auto& dec = judgement.decision;
-    r.paragraph("Against a generic model discrepancy (a bias per observable and a Gaussian process "
-                "over the setup variables; docs/model_discrepancy.md): log evidence " +
-                format_number(judgement.discrepancy.evidence.log_evidence) +
-                " against the base model's " +
-                format_number(judgement.discrepancy.log_evidence_base) + ". " +
-                (dec.best_candidate.empty()
-                     ? std::string("No candidate has an evidence.")
-                     : "The best candidate, " + dec.best_candidate + ", has log Bayes factor " +
-                           format_number(dec.log_bayes_factor_over_discrepancy) +
-                           " over the discrepancy and " +
-                           format_number(dec.log_bayes_factor_over_base) +
-                           " over the base model") +
-                "; a physics is named only at " + format_number(dec.required_log_bayes_factor) +
-                " or more over both.");
+    r.paragraph(
+        "Against a generic model discrepancy (a bias per observable and a Gaussian process "
+        "over the setup variables; docs/model_discrepancy.md): log evidence " +
+        format_number(judgement.discrepancy.evidence.log_evidence) + " against the base model's " +
+        format_number(judgement.discrepancy.log_evidence_base) + ". " +
+        (dec.best_candidate.empty()
+             ? std::string("No candidate has an evidence.")
+             : "The best candidate, " + dec.best_candidate + ", has log Bayes factor " +
+                   format_number(dec.log_bayes_factor_over_discrepancy) +
+                   " over the discrepancy and " + format_number(dec.log_bayes_factor_over_base) +
+                   " over the base model") +
+        "; a physics is named only at " + format_number(dec.required_log_bayes_factor) +
+        " or more over both.");
   }
 
   if (!d.held_out_targets.empty()) {
@@ -568,8 +568,9 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
                           double alpha, const calibrate::CalibrationOptions& calibration) {
   if (replicates.size() != targets.size() || repeats.size() != targets.size() ||
       fitted.size() != targets.size())
-    throw std::invalid_argument("test_base_fit: replicates, repeats and fitted need one entry per "
-                                "target");
+    throw std::invalid_argument(
+        "test_base_fit: replicates, repeats and fitted need one entry per "
+        "target");
   const auto pick = [&](const std::vector<calibrate::Target>& all) {
     std::vector<calibrate::Target> out;
     for (std::size_t i = 0; i < all.size(); ++i)
@@ -601,17 +602,17 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
   su.degrees_of_freedom = t.scatter_degrees_of_freedom;
   const calibrate::CalibrationProblem problem(bounds, used);
   try {
-    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
-                                                  t.run_correlation,
-                                                  calibrate::DetectionOptions{alpha}, 20, su);
+    t.correlated =
+        calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta, t.run_correlation,
+                                       calibrate::DetectionOptions{alpha}, 20, su);
   } catch (const std::runtime_error&) {
     // A correlation that is not positive definite (spurious pairs kept): the targets are
     // tested as independent rather than not at all.
     t.run_correlation = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(used.size()),
                                                   static_cast<Eigen::Index>(used.size()));
-    t.correlated = calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta,
-                                                  t.run_correlation,
-                                                  calibrate::DetectionOptions{alpha}, 20, su);
+    t.correlated =
+        calibrate::correlated_mismatch(problem, t.base.minima.at(0).theta, t.run_correlation,
+                                       calibrate::DetectionOptions{alpha}, 20, su);
   }
   return t;
 }
@@ -623,8 +624,9 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
                                  const std::vector<bool>& fitted, int points) {
   if (static_cast<std::size_t>(theta.size()) != bounds.size() ||
       single_run_scatter.size() != targets.size() || fitted.size() != targets.size())
-    throw std::invalid_argument("design_extension: theta needs one value per parameter, "
-                                "single_run_scatter and fitted one entry per target");
+    throw std::invalid_argument(
+        "design_extension: theta needs one value per parameter, "
+        "single_run_scatter and fitted one entry per target");
   DesignExtension e;
   e.bounds = bounds;
   e.points = points;
@@ -686,13 +688,15 @@ DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
   using calibrate::Explanation;
   DiagnosisVerdict v;
   if (!test.mismatch()) {
-    v.outcome = test.verdict == calibrate::MismatchVerdict::untestable ? "untestable" : "reproduced";
+    v.outcome =
+        test.verdict == calibrate::MismatchVerdict::untestable ? "untestable" : "reproduced";
     v.explanation = "none_needed";
     v.summary = test.statement;
     if (d.detection.mismatch())
-      v.summary += " (The test that takes the targets as independent gives p = " +
-                   calibrate::p_value_text(d.detection.p_value) +
-                   "; it is not calibrated when targets share runs, docs/detection_calibration.md.)";
+      v.summary +=
+          " (The test that takes the targets as independent gives p = " +
+          calibrate::p_value_text(d.detection.p_value) +
+          "; it is not calibrated when targets share runs, docs/detection_calibration.md.)";
     return v;
   }
   const std::string located = d.location_available ? " " + d.location.statement : std::string();
@@ -711,11 +715,10 @@ DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
     v.summary = test.statement + located + " " + j.decision.statement;
     for (const auto& f : d.fits)
       if (f.name == v.chosen)
-        v.summary += " " + f.parameter.name + " = " + calibrate::format_number(f.phi) + " (" +
-                     calibrate::format_number(f.phi_lower) + " to " +
-                     calibrate::format_number(f.phi_upper) +
-                     "); with it chi2/dof = " + calibrate::format_number(f.chi_square_per_dof) +
-                     ".";
+        v.summary +=
+            " " + f.parameter.name + " = " + calibrate::format_number(f.phi) + " (" +
+            calibrate::format_number(f.phi_lower) + " to " + calibrate::format_number(f.phi_upper) +
+            "); with it chi2/dof = " + calibrate::format_number(f.chi_square_per_dof) + ".";
     return v;
   }
   v.outcome = "unexplained";
@@ -777,8 +780,20 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   for (const auto& t : pooled_targets)
     if (std::find(dc.hold_out.begin(), dc.hold_out.end(), t.setup) != dc.hold_out.end())
       opt.held_out.push_back({t.setup, t.observable});
+  // The setup variables of the setups that have recordings only: a laboratory may record
+  // nothing at a setup (every repeat's pile too flat to read, a clog), and such a setup
+  // takes no part in the residuals the variables describe.
   std::vector<std::string> setups;
-  for (const auto& a : study.apparatus) setups.push_back(a.name);
+  for (const auto& a : study.apparatus) {
+    const bool recorded =
+        std::any_of(pooled_targets.begin(), pooled_targets.end(),
+                    [&](const calibrate::Target& t) { return t.setup == a.name; });
+    if (recorded)
+      setups.push_back(a.name);
+    else
+      observer.on_message("setup " + a.name +
+                          " has no recordings: it takes no part in the diagnosis");
+  }
   const calibrate::SetupVariables variables = setup_variables(study, setups);
 
   // 2. Detect, before spending DEM runs on candidates: the scatter where the fit lands and
@@ -825,10 +840,9 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       }
       design.parameters = box;
       const StudySource source = StudySource::read(o.study, o.overrides);
-      const DerivedDesignOutcome d =
-          run_derived(dir / "diagnosis" / "base-extended" / "study.toml",
-                      base_extension_study(source, study.name + "--base-extended", std::move(design)),
-                      steps);
+      const DerivedDesignOutcome d = run_derived(
+          dir / "diagnosis" / "base-extended" / "study.toml",
+          base_extension_study(source, study.name + "--base-extended", std::move(design)), steps);
       executed += d.executed;
       if (!d.complete) {
         outcome.outcome = "incomplete";
@@ -942,7 +956,8 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
         calibrate::ProbeSensitivity s;
         if (c.probe_below && below != means.end()) {
           s = calibrate::secant_sensitivity(
-              probe, {*c.probe_below, below->second.first, static_cast<double>(below->second.second)},
+              probe,
+              {*c.probe_below, below->second.first, static_cast<double>(below->second.second)},
               single_sd);
         } else {
           const auto pred = t.model->predict(at);
@@ -1078,13 +1093,13 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     for (const auto& b : extension.bounds)
       box += (box.empty() ? "" : ", ") + b.name + " in [" + format_number(b.lower) + ", " +
              format_number(b.upper) + "]";
-    design_lines.push_back(std::to_string(extension.points) +
-                           " Latin hypercube points were run (" + (dir / "diagnosis" / "base-extended" / "study.toml").string() +
+    design_lines.push_back(std::to_string(extension.points) + " Latin hypercube points were run (" +
+                           (dir / "diagnosis" / "base-extended" / "study.toml").string() +
                            "); the surrogates were refitted on both designs' runs over " + box +
                            " and the test above is on them.");
   }
-  write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, design_lines, cost,
-               outcome.json);
+  write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, design_lines,
+               cost, outcome.json);
   outcome.report = report_dir / "index.html";
   outcome.outcome = verdict.outcome;
   outcome.summary = verdict.summary;

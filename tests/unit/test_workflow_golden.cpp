@@ -14,8 +14,8 @@
 // digits a different compiler or optimisation level may change in a sum
 // without letting any reported figure (printed to at most 4-5 significant
 // digits) move. Strings and the structure (keys, array lengths): exact, after
-// the test's directory (where the study is copied and run) is written "<dir>". Left out: what differs from one run
-// of the test to the next by nature (CPU and wall times, dates).
+// the test's directory (where the study is copied and run) is written "<dir>". Left out: what
+// differs from one run of the test to the next by nature (CPU and wall times, dates).
 #include "cli/calibrate_command.hpp"
 #include "cli/diagnose_command.hpp"
 #include "config/study_config.hpp"
@@ -27,8 +27,8 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -95,7 +95,8 @@ void compare(const nlohmann::json& golden, const nlohmann::json& actual, const s
         compare(it.value(), actual.at(it.key()), where + "." + it.key(), differences);
     }
     for (auto it = actual.begin(); it != actual.end(); ++it)
-      if (!golden.contains(it.key())) differences.push_back(where + "." + it.key() + ": not in the golden file");
+      if (!golden.contains(it.key()))
+        differences.push_back(where + "." + it.key() + ": not in the golden file");
     return;
   }
   if (golden.is_array()) {
@@ -108,7 +109,8 @@ void compare(const nlohmann::json& golden, const nlohmann::json& actual, const s
       compare(golden[i], actual[i], where + "[" + std::to_string(i) + "]", differences);
     return;
   }
-  if (golden != actual) differences.push_back(where + ": " + actual.dump() + ", golden " + golden.dump());
+  if (golden != actual)
+    differences.push_back(where + ": " + actual.dump() + ", golden " + golden.dump());
 }
 
 nlohmann::json read_json(const fs::path& path) {
@@ -187,13 +189,59 @@ TEST(WorkflowGolden, StudyAndDiagnoseEndToEndOnTheAnalyticEvaluator) {
   fs::remove_all(dir);
 }
 
+// A setup where the laboratory recorded nothing (every repeat's pile too flat to read, as in
+// the blind test's fresh cohesion truth, noise seed 6) takes no part in the diagnosis: its
+// setup variables are not handed to the candidates' comparison, which refused them
+// ("setup variables are given for setup ..., which no target has") and ended the diagnosis.
+TEST(WorkflowGolden, ASetupWithoutRecordingsTakesNoPartInTheDiagnosis) {
+  const fs::path dir = testing::fresh_dir("workflow", "unrecorded-setup");
+  std::string study = testing::slurp(kStudyDir / "study.toml");
+  const std::string periodic = "[apparatus.container_periodic]";
+  const auto at = study.find(periodic);
+  ASSERT_NE(at, std::string::npos);
+  // A third container, thicker than both, with no line in recordings.csv.
+  study.insert(at, R"([apparatus.container_thick]
+type = "rectangular_container"
+width_m = 0.16
+height_m = 0.08
+thickness_diameters = 8.0
+boundary = "walls"
+fill_mass_kg = 0.04
+coarse_graining_factor = 14.0
+shear_modulus_pa = 1.0e7
+
+)");
+  testing::spit(dir / "study.toml", study);
+  fs::copy_file(kStudyDir / "recordings.csv", dir / "recordings.csv");
+  const fs::path out = dir / "out";
+  const study::AnalyticEvaluator evaluator;
+  std::ostringstream console, log;
+  cli::DiagnoseOptions d;
+  d.study = dir / "study.toml";
+  d.output_dir = out;
+  d.jobs = 2;
+  d.quiet = true;
+  d.evaluator = &evaluator;
+  cli::DiagnoseOutcome diagnosis;
+  ASSERT_NO_THROW(diagnosis = cli::diagnose(d, console, log)) << log.str();
+  ASSERT_NE(diagnosis.outcome, "incomplete") << log.str();
+  EXPECT_NE(diagnosis.outcome, "reproduced");  // the concealed effect is still seen
+  EXPECT_NE(log.str().find("setup container_thick has no recordings: it takes no part in the "
+                           "diagnosis"),
+            std::string::npos)
+      << log.str();
+  const std::string json = testing::slurp(diagnosis.json);
+  EXPECT_EQ(json.find("container_thick"), std::string::npos)
+      << "the unrecorded setup appears in diagnosis.json";
+  fs::remove_all(dir);
+}
+
 // The evaluator's observables are its documented formulas, and its noise is the
 // run's seed's alone.
 TEST(AnalyticEvaluator, GivesItsClosedFormAndSeededNoise) {
   config::StudyConfig s = config::load_study_config(
-      kStudyDir / "study.toml",
-      {"interaction.particle_particle.rolling_friction=0.2",
-       "interaction.particle_particle.sliding_friction=0.5"});
+      kStudyDir / "study.toml", {"interaction.particle_particle.rolling_friction=0.2",
+                                 "interaction.particle_particle.sliding_friction=0.5"});
   config::StudyApparatus& walls = config::select_apparatus(s, std::string("container_walls"));
   const dem::StepObserver observe = [](const dem::Simulation&, std::string_view) {};
   auto evaluate = [&](const study::RunEvaluator& e, std::uint64_t seed) {
@@ -205,8 +253,7 @@ TEST(AnalyticEvaluator, GivesItsClosedFormAndSeededNoise) {
   EXPECT_NEAR(o.at("angle_of_repose_deg").get<double>(),
               15.0 + 25.0 * std::tanh(0.5) + 12.0 * 0.5 + 20.0 * w * 0.5, 1e-12);
   EXPECT_NEAR(o.at("bulk_density_kg_m3").get<double>(),
-              2650.0 * (0.62 - 0.06 * 0.5 - 0.04 * std::tanh(0.6) - 0.05 * w + 0.03 * 0.25),
-              1e-9);
+              2650.0 * (0.62 - 0.06 * 0.5 - 0.04 * std::tanh(0.6) - 0.05 * w + 0.03 * 0.25), 1e-9);
   EXPECT_FALSE(o.contains("discharge_time_s"));  // a container measures no discharge
 
   const study::AnalyticEvaluator noisy;
