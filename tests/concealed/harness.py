@@ -113,6 +113,28 @@ def truths():
     return out
 
 
+# The key each candidate's parameter is (config/physics_candidates.cpp), and its value when a
+# truth switches the effect on without giving one.
+HIDDEN_KEY = {
+    "cohesion": ("interaction.particle_particle.surface_energy_j_m2", None),
+    "wall_friction": ("interaction.particle_wall.sliding_friction", None),
+    "air_drag": ("air.drag_scale", 1.0),
+    "size_spread": ("material.size.relative_half_width", None),
+}
+
+
+def hidden_value(t):
+    """The concealed parameter's value in a truth, or None (the null)."""
+    if t["effect"] not in HIDDEN_KEY:
+        return None
+    key, default = HIDDEN_KEY[t["effect"]]
+    for kv in t["set"]:
+        k, _, v = kv.partition("=")
+        if k.strip() == key:
+            return float(v)
+    return default
+
+
 def study_file(name):
     return STUDIES / name / "study.toml"
 
@@ -248,7 +270,13 @@ def step_diagnose(args):
                 "chi2_dof_after": d.get("chi_square_per_dof_after"),
                 "p_value": d["detection"].get("p_value"),
                 "bayes_factor": d.get("bayes_factor_over_base"),
-                "value": chosen_fit.get("value") if chosen_fit else None,
+                "value": chosen_fit.get("phi") if chosen_fit else None,
+                "value_lower": chosen_fit.get("phi_lower") if chosen_fit else None,
+                "value_upper": chosen_fit.get("phi_upper") if chosen_fit else None,
+                "hidden_value": hidden_value(t),
+                "hidden_inside": (chosen_fit["phi_lower"] <= hidden_value(t) <= chosen_fit["phi_upper"])
+                if chosen_fit and hidden_value(t) is not None and chosen == truth
+                and chosen_fit.get("phi_lower") is not None and chosen_fit.get("phi_upper") is not None else None,
                 "dem_runs_executed": d.get("dem_runs_executed"), "wall_time_s": round(elapsed, 1),
                 "summary": d["summary"],
             }
