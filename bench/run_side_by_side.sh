@@ -16,6 +16,9 @@
 #   R=3             repetitions          R6000=$R   repetitions for cases with N >= 6000
 #   CASES="pile3000 pour6000"          THREADS="1 2"
 #   STATIC_STEPS=20000  MUS=0.5  MUR=0.1  SEED=4767
+#   ORDER=spatial   demcal's particle order (--particle-order; spatial is the config readers'
+#                   default since issue 13, the benchmark binary's own default is insertion);
+#                   each BENCH line records it ("order ...")
 #   DEMCAL_BENCH=<repo>/build-bench/bench/demcal_bench_pile
 #   LOGDIR=<repo>/bench/logs   RUN_TIMEOUT=900 (s; a demcal run taking longer is logged as TIMEOUT)
 #   QUIET_BUSY=0.3  QUIET_WAIT=120   before a multi-thread run, wait (at most QUIET_WAIT s) until
@@ -35,6 +38,7 @@ STATIC_STEPS=${STATIC_STEPS:-20000}
 MUS=${MUS:-0.5}
 MUR=${MUR:-0.1}
 SEED=${SEED:-4767}
+ORDER=${ORDER:-spatial}
 QUIET_BUSY=${QUIET_BUSY:-0.3}
 QUIET_WAIT=${QUIET_WAIT:-120}
 RUN_TIMEOUT=${RUN_TIMEOUT:-900}
@@ -63,7 +67,7 @@ LOGDIR=${LOGDIR:-$REPO/bench/logs}
 mkdir -p "$LOGDIR"
 LMPVER=$(lmp -h 2>/dev/null | sed -n 's/^Large-scale.* - \(2.*\)/\1/p' | head -1)
 LMPDEB=$(dpkg-query -W -f='${Version}' lammps 2>/dev/null || true)
-echo "machine: $MODEL, $(nproc) cores, kernel $(uname -r); demcal $VERSION; LAMMPS $LMPVER (Debian $LMPDEB), MPI only"
+echo "machine: $MODEL, $(nproc) cores, kernel $(uname -r); demcal $VERSION (order $ORDER); LAMMPS $LMPVER (Debian $LMPDEB), MPI only"
 
 logfile() { echo "$LOGDIR/${DATE}_$1_$2_$3t_${MACHINE}.log"; }
 
@@ -112,7 +116,8 @@ run_demcal() {  # N threads mode rep
   local s0; s0=$(cpu_snap)
   local rc=0
   timeout "$RUN_TIMEOUT" /usr/bin/time -v "$BIN" --particles "$n" --threads "$t" --mode "$mode" \
-    --static-steps "$STATIC_STEPS" --seed "$SEED" --mus "$MUS" --mur "$MUR" --dump "$dump" > "$out" 2> "$tf" || rc=$?
+    --static-steps "$STATIC_STEPS" --seed "$SEED" --mus "$MUS" --mur "$MUR" --particle-order "$ORDER" \
+    --dump "$dump" > "$out" 2> "$tf" || rc=$?
   if [ $rc = 124 ]; then  # a disturbed multi-thread run can crawl; log it and go on
     echo "$h TIMEOUT after $RUN_TIMEOUT s, others_cores $(others_cores "$s0" "$(cpu_snap)" /dev/null)" | tee -a "$(logfile "pour$n" demcal "$t")"
     return 0

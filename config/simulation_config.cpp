@@ -91,13 +91,15 @@ SimulationConfig build_simulation(ConfigDocument&& doc) {
   opt.skin_fraction_of_diameter = sim_t.number_or("skin_fraction_of_diameter", 0.3, above(0));
   opt.restitution_model = read_restitution_model(sim_t);
   opt.max_speed_m_s = sim_t.number_or("max_speed_m_s", 0.0, at_least(0));
-  // Not written in when absent, nor when it is the default "insertion" (same run, same hash).
+  // Absent means "spatial" (as in a study's [protocol]); not written in when absent, nor when
+  // the default is given (same run, same hash). "insertion" is written in.
+  opt.particle_order = dem::ParticleOrder::kSpatial;
   const bool order_given = sim_t.has("particle_order");
   if (order_given)
     opt.particle_order =
         dem::parse_particle_order(sim_t.choice("particle_order", dem::particle_order_names()));
   sim_t.finish();
-  if (order_given && opt.particle_order == dem::ParticleOrder::kInsertion)
+  if (order_given && opt.particle_order == dem::ParticleOrder::kSpatial)
     doc.table.get("simulation")->as_table()->erase("particle_order");
 
   // [domain]

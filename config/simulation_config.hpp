@@ -19,8 +19,8 @@
 //   skin_fraction_of_diameter = 0.3       # opt, > 0
 //   restitution_model = "exact"           # opt, "exact" | "linear_spring_formula"
 //   max_speed_m_s = 0.0                   # opt, 0 = derived from the box
-//   particle_order = "insertion"          # opt, "insertion" | "spatial" (not written in when
-//                                         #   absent or "insertion"): dem/particle_order.hpp
+//   particle_order = "spatial"            # opt, "spatial" | "insertion" (not written in when
+//                                         #   absent or "spatial"): dem/particle_order.hpp
 //
 //   [domain]
 //   lower_m = [x, y, z]                   # required

@@ -199,16 +199,18 @@ StudyConfig build_study(ConfigDocument&& doc) {
   // Not written in when absent either; the apparatus refuse a fill of more grains.
   if (prot_t.has("max_particles"))
     protocol.max_particles = prot_t.number("max_particles", at_least(1));
-  // Not written in when absent, nor when "insertion" (the default) is given:
-  // the runs are the same, so their keys must be too. "spatial" is written in,
-  // so its runs (bit-wise different) get keys of their own.
+  // Absent means "spatial", the default since run keys of version 2 (issue 13: the same
+  // statistics for less CPU, BENCHMARKS.md). Not written in when absent, nor when the
+  // default is given: the runs are the same, so their keys must be too. "insertion" is
+  // written in, so its runs (bit-wise different) get keys of their own.
+  protocol.particle_order = dem::ParticleOrder::kSpatial;
   const bool order_given = prot_t.has("particle_order");
   if (order_given)
     protocol.particle_order =
         dem::parse_particle_order(prot_t.choice("particle_order", dem::particle_order_names()));
   check_rest_protocol(prot_t, protocol, material);
   prot_t.finish();
-  if (order_given && protocol.particle_order == dem::ParticleOrder::kInsertion)
+  if (order_given && protocol.particle_order == dem::ParticleOrder::kSpatial)
     doc.table.get("protocol")->as_table()->erase("particle_order");
 
   // [apparatus.*]: a table named after its kind ([apparatus.sandglass]), or

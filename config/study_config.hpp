@@ -92,11 +92,13 @@
 //   max_steps = 1e10                      # opt (not written in when absent): a run whose
 //                                         #   estimated steps exceed it is refused before it
 //                                         #   starts (config/run_sanity.hpp)
-//   particle_order = "insertion"          # opt, "insertion" | "spatial" (not written in when
-//                                         #   absent or "insertion"): how the engine stores
+//   particle_order = "spatial"            # opt, "spatial" | "insertion" (not written in when
+//                                         #   absent or "spatial"): how the engine stores
 //                                         #   particles (dem/particle_order.hpp); "spatial"
 //                                         #   re-sorts them by neighbour cell at each neighbour
-//                                         #   build (faster, results differ bit-wise)
+//                                         #   build (the default: faster, same statistics);
+//                                         #   "insertion" keeps them in the order they were
+//                                         #   added (results differ bit-wise)
 //   The physical sanity rules of config/run_sanity.hpp apply on top of each key's range:
 //   check_interval_s >= rest_speed_m_s / g; rest_speed_m_s at most the speed of a grain
 //   fallen a tenth of its diameter; at most 10 % overlap in a 1 m/s collision; the step

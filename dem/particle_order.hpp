@@ -1,6 +1,7 @@
 #pragma once
-// The order particles are stored in. Insertion order (the default) keeps each
-// particle at the index it was added with. Spatial order sorts them by the
+// The order particles are stored in. Insertion order (the engine's default in
+// SimulationOptions; the config readers' default is spatial since run keys of
+// version 2, issue 13) keeps each particle at the index it was added with. Spatial order sorts them by the
 // cell of a grid as wide as the neighbour cut-off at every neighbour build, so
 // a particle's neighbours sit at nearby indices: a thread's contiguous chunk
 // of particles then has partners only in a narrow window of indices (fewer

@@ -5,7 +5,7 @@
 // never computed again; stores are merged by copying their files together.
 //
 // The hash rule. The run key is the JSON object
-//   { "key_version": 1,
+//   { "key_version": 2,
 //     "apparatus": "<name>",
 //     "inputs": the study resolved for that apparatus after every override and
 //               design value (resolved_for: [material], [wall_material],
@@ -52,7 +52,10 @@
 
 namespace demcal::study {
 
-inline constexpr int kRunKeyVersion = 1;
+// History: 1 the first; 2 (issue 13) spatial particle order became the default of the
+// config readers (absent [protocol] particle_order now means "spatial"), which changes the
+// results of every run that does not name an order, so stores of version 1 are not reused.
+inline constexpr int kRunKeyVersion = 2;
 
 struct RunKey {
   nlohmann::json key;  // the run key object
