@@ -127,6 +127,24 @@ TEST(EnginesMapping, LiggghtsRestitutionIsTheLinearSpringFormulasOfDemcalsDampin
   EXPECT_FALSE(map_to_liggghts(jkr, {}).ok());
 }
 
+// LAMMPS's sds slider keeps its dashpot at the rolling limit, demcal's epsd
+// idles it: a difference in how grains roll at the limit (issue 17, the lower
+// pile of the Sandglass slice), stated in the mapping whenever rolling is on.
+TEST(EnginesMapping, LammpsStatesTheRollingDashpotAtTheLimit) {
+  auto says_dashpot = [](const LammpsMapping& m) {
+    for (const auto& a : m.approximations)
+      if (a.find("rolling dashpot stays on at the rolling limit") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material(), {}).value()));
+  MappingOptions allow;
+  allow.allow_rolling_substitute = true;
+  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material("cdt"), {}, allow).value()));
+  auto dry = peer_material();
+  dry.contact.rolling = "none";
+  EXPECT_FALSE(says_dashpot(map_to_lammps(dry, {}).value()));
+}
+
 TEST(EnginesMapping, EngineNames) {
   EXPECT_EQ(engine_from_name("lammps"), Engine::kLammps);
   EXPECT_EQ(engine_name(Engine::kLiggghts), "liggghts");
