@@ -42,8 +42,8 @@
 //    -(F_crit f^ + gamma_roll v_roll) / k_roll (as its tangential force does);
 //    demcal's epsd (and LIGGGHTS's) cut the spring to the limit and idle the
 //    dashpot. Below the limit the laws are equal; at it the torque is capped at
-//    the same value, but the spring LAMMPS keeps differs (issue 17: the lower
-//    pile of the Sandglass slice, studies/engine-crosscheck/README.md).
+//    the same value, but the spring LAMMPS keeps differs (measured on the lower
+//    pile of the Sandglass slice: no effect, studies/engine-crosscheck/README.md).
 //
 //  * adhesion "jkr" (demcal's EDEM-form JKR, dem/contact/jkr_adhesion.hpp):
 //    "jkr E_in tsuji_input 0 gamma damping tsuji" with E_in = 2 E*, Poisson

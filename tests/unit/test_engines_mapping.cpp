@@ -154,8 +154,8 @@ TEST(EnginesMapping, LammpsRollingSpringIsDemcalsAtTheReferenceOverlap) {
 }
 
 // LAMMPS's sds slider keeps its dashpot at the rolling limit, demcal's epsd
-// idles it: a difference in how grains roll at the limit (issue 17, the lower
-// pile of the Sandglass slice), stated in the mapping whenever rolling is on.
+// idles it: a difference in how grains roll at the limit, stated in the mapping
+// whenever rolling is on (issue 17; no effect measured on the Sandglass's lower pile).
 TEST(EnginesMapping, LammpsStatesTheRollingDashpotAtTheLimit) {
   auto says_dashpot = [](const LammpsMapping& m) {
     for (const auto& a : m.approximations)
