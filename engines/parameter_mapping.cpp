@@ -367,6 +367,15 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     map.approximations.push_back(
         "rolling spring constant in LAMMPS, overlap-dependent in demcal: equal at delta = " +
         num(options.reference_overlap_fraction) + " R*; the limiting torque is exact");
+  // LAMMPS's sds slider caps spring + dashpot together and stores the spring
+  // as -(F_crit f^ + gamma_roll v_roll) / k_roll (pair_granular.cpp and
+  // fix_wall_gran.cpp, 29Sep2021), as for its tangential force; demcal's epsd
+  // idles the dashpot at the limit. Below the limit the two are equal.
+  if (map.particle_particle.rolling || map.particle_wall.rolling)
+    map.approximations.push_back(
+        "rolling dashpot stays on at the rolling limit in LAMMPS (sds caps spring + dashpot "
+        "together, its spring history set to -(F_crit + gamma_roll v_roll) / k_roll); demcal "
+        "idles it there");
   if (m.contact.rolling == "cdt")
     map.approximations.push_back(
         "demcal cdt (constant torque) run as LAMMPS sds with the same limiting torque (R_eff from "

@@ -38,6 +38,12 @@
 //    mu_r F_n l_i on each grain (l_i ~ R_i): no LAMMPS counterpart; refused unless
 //    allow_rolling_substitute, then sds with the same limiting torque
 //    (mu_r_LAMMPS = mu_r l / R_eff: 2 mu_r between equal spheres, mu_r at a wall).
+//    At the limit LAMMPS caps spring + dashpot together and stores the spring as
+//    -(F_crit f^ + gamma_roll v_roll) / k_roll (as its tangential force does);
+//    demcal's epsd (and LIGGGHTS's) cut the spring to the limit and idle the
+//    dashpot. Below the limit the laws are equal; at it the torque is capped at
+//    the same value, but the spring LAMMPS keeps differs (measured on the lower
+//    pile of the Sandglass slice: no effect, studies/engine-crosscheck/README.md).
 //
 //  * adhesion "jkr" (demcal's EDEM-form JKR, dem/contact/jkr_adhesion.hpp):
 //    "jkr E_in tsuji_input 0 gamma damping tsuji" with E_in = 2 E*, Poisson

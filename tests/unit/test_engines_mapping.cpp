@@ -127,6 +127,50 @@ TEST(EnginesMapping, LiggghtsRestitutionIsTheLinearSpringFormulasOfDemcalsDampin
   EXPECT_FALSE(map_to_liggghts(jkr, {}).ok());
 }
 
+// LAMMPS's sds spring is constant; demcal's epsd spring f S_n(delta) (mu_r R*)^2
+// grows with the overlap. The mapping matches the torque stiffness k_roll R*^2
+// at delta_ref = reference_overlap_fraction R*, for pairs (R* = R/2) and walls
+// (R* = R), and damps it at demcal's ratio with I_r = 7/5 m R^2 per sphere. The
+// lower pile of the Sandglass slice depends on this match (issue 17).
+TEST(EnginesMapping, LammpsRollingSpringIsDemcalsAtTheReferenceOverlap) {
+  const double e_star = 1e7 / (2.0 * (1.0 - 0.09));
+  const double radius = 0.5e-3, mass = 2650.0 * M_PI / 6.0 * 1e-9;
+  const double f = dem::InteractionParameters{}.rolling_stiffness_factor;
+  const double zeta = dem::InteractionParameters{}.rolling_damping_ratio;
+  for (const double q : {0.005, 0.05}) {
+    MappingOptions o;
+    o.reference_overlap_fraction = q;
+    const auto m = map_to_lammps(peer_material(), {}, o).value();
+    auto check = [&](const LammpsPairCoefficients& c, double reff, double mu_r, double inertia) {
+      const double s_n = 2.0 * e_star * std::sqrt(reff * q * reff);  // demcal's S_n at delta_ref
+      const double k = f * s_n * mu_r * mu_r;
+      EXPECT_NEAR(c.rolling_stiffness_n_m, k, 1e-12 * k) << "q " << q << " R* " << reff;
+      const double gamma = zeta * 2.0 * std::sqrt(k * reff * reff * inertia) / (reff * reff);
+      EXPECT_NEAR(c.rolling_damping_n_s_m, gamma, 1e-12 * gamma) << "q " << q << " R* " << reff;
+    };
+    check(m.particle_particle, 0.5 * radius, 0.1, 0.7 * mass * radius * radius);
+    check(m.particle_wall, radius, 0.3, 1.4 * mass * radius * radius);
+  }
+}
+
+// LAMMPS's sds slider keeps its dashpot at the rolling limit, demcal's epsd
+// idles it: a difference in how grains roll at the limit, stated in the mapping
+// whenever rolling is on (issue 17; no effect measured on the Sandglass's lower pile).
+TEST(EnginesMapping, LammpsStatesTheRollingDashpotAtTheLimit) {
+  auto says_dashpot = [](const LammpsMapping& m) {
+    for (const auto& a : m.approximations)
+      if (a.find("rolling dashpot stays on at the rolling limit") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material(), {}).value()));
+  MappingOptions allow;
+  allow.allow_rolling_substitute = true;
+  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material("cdt"), {}, allow).value()));
+  auto dry = peer_material();
+  dry.contact.rolling = "none";
+  EXPECT_FALSE(says_dashpot(map_to_lammps(dry, {}).value()));
+}
+
 TEST(EnginesMapping, EngineNames) {
   EXPECT_EQ(engine_from_name("lammps"), Engine::kLammps);
   EXPECT_EQ(engine_name(Engine::kLiggghts), "liggghts");
