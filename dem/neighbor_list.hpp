@@ -53,6 +53,23 @@ class NeighborList {
   ContactHistory& history(std::size_t p) { return history_[p]; }
   std::uint8_t& touching(std::size_t p) { return touching_[p]; }
 
+  // The same list as raw arrays, for the force loop. That loop stores a byte
+  // per pair (the touching flag), and a byte store may alias any object: read
+  // through the accessors above, every vector's data pointer would be loaded
+  // again from memory at every pair. Valid until the next build or renumber.
+  struct Arrays {
+    const std::uint32_t* first;
+    const std::uint32_t* partner;
+    const std::uint8_t* shift_code;
+    const Vec3* shift_table;
+    ContactHistory* history;
+    std::uint8_t* touching;
+  };
+  Arrays arrays() {
+    return {first_.data(),        partner_.data(), shift_code_.data(),
+            shift_table_.data(),  history_.data(), touching_.data()};
+  }
+
  private:
   std::vector<std::uint32_t> first_;
   std::vector<std::uint32_t> partner_;

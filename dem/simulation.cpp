@@ -513,60 +513,77 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     double elastic = 0.0;
     std::size_t contacts = 0;
 
+    // The pair loop reads raw arrays held in registers: it stores a byte per
+    // pair (the touching flag), and through the vectors every data pointer
+    // would be reloaded from memory at every pair (a byte may alias anything).
+    const NeighborList::Arrays list = neighbors_.arrays();
+    const Vec3* const xp = x.data();
+    const Vec3* const vp = v.data();
+    const Vec3* const wp = om.data();
+    const double* const rp = rad.data();
+    const double* const mp = mass.data();
+    const double* const imp = im.data();
+    const double* const iip = ii.data();
+    const int* const matp = mat.data();
+    const PairCoefficients* const coef = coefficients_.data();
+    Vec3* const Fp = F.data();
+    Vec3* const Tp = T.data();
     for (std::size_t i = own_begin; i < own_end; ++i) {
-      const Vec3 xi = x[i], vi = v[i], wi = om[i];
-      const double ri = rad[i];
-      const int mi = mat[i];
-      const std::uint32_t end = neighbors_.first(i + 1);
-      for (std::uint32_t p = neighbors_.first(i); p < end; ++p) {
-        const std::uint32_t j = neighbors_.partner(p);
-        const Vec3 d = xi - (x[j] + neighbors_.image_shift(p));
-        const double rsum = ri + rad[j];
+      const Vec3 xi = xp[i], vi = vp[i], wi = wp[i];
+      const double ri = rp[i];
+      const int mi = matp[i];
+      const std::uint32_t end = list.first[i + 1];
+      for (std::uint32_t p = list.first[i]; p < end; ++p) {
+        const std::uint32_t j = list.partner[p];
+        const Vec3 d = xi - (xp[j] + list.shift_table[list.shift_code[p]]);
+        const double rj = rp[j];
+        const double rsum = ri + rj;
         const double dist2 = norm2(d);
         if (dist2 >= rsum * rsum) {
           // Parted. A part of the law may still hold a contact that touched
           // (adhesion); a law without such a part compiles to the plain test.
           bool held = false;
           if constexpr (Kernel::kHoldsBeyondTouching) {
-            if (neighbors_.touching(p))
-              held = kernel.holds(coefficients_[mi * nm + mat[j]], ri * rad[j] / rsum,
+            if (list.touching[p])
+              held = kernel.holds(coef[mi * nm + matp[j]], ri * rj / rsum,
                                   rsum - std::sqrt(dist2));
           }
           if (!held) {
-            if (neighbors_.touching(p)) {
-              neighbors_.touching(p) = 0;
-              neighbors_.history(p) = ContactHistory{};
+            if (list.touching[p]) {
+              list.touching[p] = 0;
+              list.history[p] = ContactHistory{};
             }
             continue;
           }
         }
         const double dist = std::sqrt(dist2);
+        const Vec3 wj = wp[j];
         ContactKinematics k;
         k.normal = d / dist;
         k.overlap_m = rsum - dist;
-        k.radius_eff_m = ri * rad[j] / rsum;
-        k.mass_eff_kg = mass[i] * mass[j] / (mass[i] + mass[j]);
+        k.radius_eff_m = ri * rj / rsum;
+        k.mass_eff_kg = mp[i] * mp[j] / (mp[i] + mp[j]);
         k.lever_i_m = ri - 0.5 * k.overlap_m;
-        k.lever_j_m = rad[j] - 0.5 * k.overlap_m;
-        k.inv_mass_i_kg = im[i];
-        k.inv_mass_j_kg = im[j];
-        k.inv_inertia_i_kg_m2 = ii[i];
-        k.inv_inertia_j_kg_m2 = ii[j];
+        k.lever_j_m = rj - 0.5 * k.overlap_m;
+        k.inv_mass_i_kg = imp[i];
+        k.inv_mass_j_kg = imp[j];
+        k.inv_inertia_i_kg_m2 = iip[i];
+        k.inv_inertia_j_kg_m2 = iip[j];
         k.omega_i_rad_s = wi;
-        k.omega_j_rad_s = om[j];
-        const Vec3 vc = vi - v[j] - cross(k.lever_i_m * wi + k.lever_j_m * om[j], k.normal);
+        k.omega_j_rad_s = wj;
+        const Vec3 vc = vi - vp[j] - cross(k.lever_i_m * wi + k.lever_j_m * wj, k.normal);
         k.normal_speed_m_s = dot(vc, k.normal);
         k.tangential_velocity_m_s = vc - k.normal_speed_m_s * k.normal;
         k.dt_s = dt;
-        neighbors_.touching(p) = 1;
+        list.touching[p] = 1;
         ContactForce cf;
-        kernel(k, coefficients_[mi * nm + mat[j]], neighbors_.history(p), cf);
+        kernel(k, coef[mi * nm + matp[j]], list.history[p], cf);
         const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
         const Vec3 nxft = cross(k.normal, cf.tangential_force_n);
-        F[i] += fi;
-        F[j] -= fi;
-        T[i] += cf.torque_i_nm - k.lever_i_m * nxft;
-        T[j] += cf.torque_j_nm - k.lever_j_m * nxft;
+        Fp[i] += fi;
+        Fp[j] -= fi;
+        Tp[i] += cf.torque_i_nm - k.lever_i_m * nxft;
+        Tp[j] += cf.torque_j_nm - k.lever_j_m * nxft;
         elastic += cf.elastic_energy_j;
         ++contacts;
       }
