@@ -1,8 +1,8 @@
 #include "calibrate/model_discrepancy.hpp"
 
 #include "calibrate/detail/number_text.hpp"
+#include "calibrate/detail/truncated_normal.hpp"
 
-#include <gsl/gsl_cdf.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
@@ -77,13 +77,17 @@ void structure(const std::vector<Target>& targets, const SetupVariables& variabl
     }
 }
 
+// Central intervals at `confidence` of the Gaussian's marginals restricted to the
+// bounds (the uniform prior's box), so that each holds its truncated mean.
 std::vector<double> interval(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
-                             const std::vector<ParameterBounds>& bounds, double z, bool upper) {
+                             const std::vector<ParameterBounds>& bounds, double confidence,
+                             bool upper) {
   std::vector<double> out;
   for (Eigen::Index j = 0; j < mean.size(); ++j) {
     const auto& b = bounds[static_cast<std::size_t>(j)];
-    const double sd = std::sqrt(std::max(cov(j, j), 0.0));
-    out.push_back(std::clamp(mean(j) + (upper ? z : -z) * sd, b.lower, b.upper));
+    const detail::TruncatedNormal t(mean(j), std::sqrt(std::max(cov(j, j), 0.0)), b.lower,
+                                    b.upper);
+    out.push_back(t.quantile(0.5 + (upper ? 0.5 : -0.5) * confidence));
   }
   return out;
 }
@@ -245,12 +249,27 @@ DiscrepancyEvidence discrepancy_evidence(const CalibrationProblem& base,
   out.bias_amplitude = nodes[mode].tau_b;
   out.process_amplitude = nodes[mode].tau_g;
 
-  const double z = std::sqrt(gsl_cdf_chisq_Pinv(options.confidence, 1.0));
-  out.lower = interval(out.theta, out.covariance, base.parameters(), z, false);
-  out.upper = interval(out.theta, out.covariance, base.parameters(), z, true);
+  // The Laplace step is unconstrained and may leave the box (the discrepancy
+  // absorbs what the parameters did, and the linearization extrapolates); the
+  // uniform prior restricts it to the box, so the estimate is the restricted
+  // marginal's mean and always lies inside its interval.
+  out.bounds = base.parameters();
+  out.unconstrained_theta = out.theta;
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const auto& b = base.parameters()[static_cast<std::size_t>(j)];
+    out.theta(j) = detail::TruncatedNormal(out.theta(j),
+                                           std::sqrt(std::max(out.covariance(j, j), 0.0)),
+                                           b.lower, b.upper)
+                       .mean();
+  }
+  out.lower = interval(out.unconstrained_theta, out.covariance, base.parameters(),
+                       options.confidence, false);
+  out.upper = interval(out.unconstrained_theta, out.covariance, base.parameters(),
+                       options.confidence, true);
   const Node base_node = node(0.0, 0.0);
-  out.base_lower = interval(theta_hat, base_node.cov, base.parameters(), z, false);
-  out.base_upper = interval(theta_hat, base_node.cov, base.parameters(), z, true);
+  out.base_lower =
+      interval(theta_hat, base_node.cov, base.parameters(), options.confidence, false);
+  out.base_upper = interval(theta_hat, base_node.cov, base.parameters(), options.confidence, true);
 
   for (Eigen::Index i = 0; i < n; ++i) {
     const Target& t = base.targets()[static_cast<std::size_t>(i)];
@@ -423,12 +442,44 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
   else if (d.indistinguishable.empty())
     s += "No candidate could be assessed, so no physics is named. ";
   s += "With the discrepancy: ";
-  for (std::size_t j = 0; j < discrepancy.parameter_names.size(); ++j)
-    s += (j ? ", " : "") + discrepancy.parameter_names[j] + " = " +
-         fmt(discrepancy.theta(static_cast<Eigen::Index>(j)), 3) + " (" +
-         fmt(discrepancy.lower[j], 3) + "-" + fmt(discrepancy.upper[j], 3) + "; without it " +
-         fmt(discrepancy.base_lower[j], 3) + "-" + fmt(discrepancy.base_upper[j], 3) + ")";
+  std::vector<std::string> beyond;
+  for (std::size_t j = 0; j < discrepancy.parameter_names.size(); ++j) {
+    const auto jj = static_cast<Eigen::Index>(j);
+    s += j ? ", " : "";
+    s += discrepancy.parameter_names[j];
+    s += " = ";
+    s += fmt(discrepancy.theta(jj), 3);
+    s += " (";
+    s += fmt(discrepancy.lower[j], 3);
+    s += "-";
+    s += fmt(discrepancy.upper[j], 3);
+    s += "; without it ";
+    s += fmt(discrepancy.base_lower[j], 3);
+    s += "-";
+    s += fmt(discrepancy.base_upper[j], 3);
+    s += ")";
+    if (j >= discrepancy.bounds.size() || discrepancy.unconstrained_theta.size() <= jj) continue;
+    const auto& b = discrepancy.bounds[j];
+    const double free_value = discrepancy.unconstrained_theta(jj);
+    if (free_value < b.lower || free_value > b.upper) {
+      std::string t = discrepancy.parameter_names[j];
+      t += " at ";
+      t += fmt(free_value, 3);
+      t += free_value > b.upper ? ", above the upper bound " : ", below the lower bound ";
+      t += fmt(free_value > b.upper ? b.upper : b.lower, 3);
+      beyond.push_back(t);
+    }
+  }
   s += ".";
+  if (!beyond.empty()) {
+    s += " Unbounded, the fit with the discrepancy would put ";
+    for (std::size_t k = 0; k < beyond.size(); ++k) {
+      s += k ? (k + 1 == beyond.size() ? " and " : ", ") : "";
+      s += beyond[k];
+    }
+    s += ": the values above are held to the design's range, and the recordings may need "
+         "parameters outside it.";
+  }
   d.statement = s;
   return d;
 }
@@ -447,6 +498,10 @@ nlohmann::json DiscrepancyEvidence::to_json() const {
   for (std::size_t j = 0; j < parameter_names.size(); ++j)
     params.push_back({{"name", parameter_names[j]},
                       {"value", number_json(theta(static_cast<Eigen::Index>(j)))},
+                      {"unconstrained_value",
+                       number_json(static_cast<Eigen::Index>(j) < unconstrained_theta.size()
+                                       ? unconstrained_theta(static_cast<Eigen::Index>(j))
+                                       : theta(static_cast<Eigen::Index>(j)))},
                       {"sd", number_json(std::sqrt(covariance(static_cast<Eigen::Index>(j),
                                                               static_cast<Eigen::Index>(j))))},
                       {"lower", number_json(lower[j])},

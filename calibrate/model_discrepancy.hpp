@@ -81,11 +81,15 @@ struct DiscrepancyEvidence {
   double log_evidence_base = 0.0;  // the same formula at tau = 0 (model_evidence's Laplace)
   // Posterior modes of the amplitudes (grid nodes), in sigma_total units.
   double bias_amplitude = 0.0, process_amplitude = 0.0;
-  // theta with the discrepancy: posterior mean and covariance, averaged over the
-  // amplitudes' posterior (mixture), in parameter units; intervals mean -/+ z sd at
-  // options.confidence, clipped to the bounds.
+  // theta with the discrepancy: the Laplace posterior averaged over the amplitudes'
+  // posterior (mixture), in parameter units. That Gaussian (unconstrained_theta,
+  // covariance) may reach outside the bounds; under the uniform prior each marginal is
+  // restricted to its bounds, and theta and the intervals (central, at
+  // options.confidence) are that restricted marginal's mean and quantiles, so theta
+  // always lies inside [lower, upper] and inside the bounds.
   std::vector<std::string> parameter_names;
-  Eigen::VectorXd theta;
+  std::vector<ParameterBounds> bounds;
+  Eigen::VectorXd theta, unconstrained_theta;
   Eigen::MatrixXd covariance;
   std::vector<double> lower, upper;
   // The base fit's intervals by the same rule without the discrepancy, for "widened by".

@@ -16,7 +16,8 @@
 //       and the discrepancy names the observable that carries it;
 //   (c) nothing concealed -> "none_needed" in 5 of 5 seeds.
 // Unit checks: at zero amplitude the evidence is model_evidence's Laplace evidence; the
-// widened intervals contain the base ones; option and input errors.
+// widened intervals contain the base ones; every estimate lies inside its interval and the
+// bounds; option and input errors.
 #include "calibrate/discrepancy_diagnosis.hpp"
 #include "calibrate/model_discrepancy.hpp"
 #include "tests/support/analytic_world.hpp"
@@ -66,6 +67,21 @@ Judged judge(int e, double phi, unsigned long seed) {
   EXPECT_TRUE(judged.available) << judged.note;
   j.disc = judged.discrepancy;
   j.decision = judged.decision;
+  // Every estimate lies inside its own interval, and both inside the bounds, wherever the
+  // unconstrained Laplace step went; a step past a bound is said.
+  const auto bounds = base_bounds();
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const double value = j.disc.theta(static_cast<Eigen::Index>(k));
+    const double free_value = j.disc.unconstrained_theta(static_cast<Eigen::Index>(k));
+    EXPECT_LE(bounds[k].lower, j.disc.lower[k]);
+    EXPECT_LE(j.disc.lower[k], value);
+    EXPECT_LE(value, j.disc.upper[k]);
+    EXPECT_LE(j.disc.upper[k], bounds[k].upper);
+    if ((free_value < bounds[k].lower || free_value > bounds[k].upper) &&
+        j.decision.verdict == Explanation::discrepancy) {
+      EXPECT_NE(j.decision.statement.find("held to the design's range"), std::string::npos);
+    }
+  }
   EXPECT_FALSE(judged.to_json().dump().empty());
   return j;
 }
