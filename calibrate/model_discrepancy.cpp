@@ -465,8 +465,9 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
       std::string t = discrepancy.parameter_names[j];
       t += " at ";
       t += fmt(free_value, 3);
-      t += free_value > b.upper ? ", above the upper bound " : ", below the lower bound ";
+      t += free_value > b.upper ? " (above the upper bound " : " (below the lower bound ";
       t += fmt(free_value > b.upper ? b.upper : b.lower, 3);
+      t += ")";
       beyond.push_back(t);
     }
   }

@@ -17,7 +17,8 @@
 //   (c) nothing concealed -> "none_needed" in 5 of 5 seeds.
 // Unit checks: at zero amplitude the evidence is model_evidence's Laplace evidence; the
 // widened intervals contain the base ones; every estimate lies inside its interval and the
-// bounds; option and input errors.
+// bounds, also when the unbounded step leaves a tight box (and the statement says so);
+// option and input errors.
 #include "calibrate/discrepancy_diagnosis.hpp"
 #include "calibrate/model_discrepancy.hpp"
 #include "tests/support/analytic_world.hpp"
@@ -49,6 +50,7 @@ using namespace demcal::testing::analytic_world;
 // The competitor
 
 struct Judged {
+  std::vector<double> y;
   DiscrepancyDiagnosis d;
   DiscrepancyEvidence disc;
   ExplanationDecision decision;
@@ -59,6 +61,7 @@ Judged judge(int e, double phi, unsigned long seed) {
   o.leading_candidates = kCandidates;  // every candidate refitted: the best is compared
   Judged j;
   const WorldRun run = diagnose(e, phi, seed, o);
+  j.y = run.y;
   j.d = run.d;
   // What the workflow calls after diagnose_discrepancy (base_targets() ends with the held-out
   // ones).
@@ -204,6 +207,49 @@ TEST(ModelDiscrepancy, DiscrepancyWinsWhenNoCandidateHasThePattern) {
     EXPECT_GE(discrepancy, detected - 1) << observable;
     EXPECT_GE(observable_named, discrepancy - 1) << observable;
   }
+}
+
+TEST(ModelDiscrepancy, AnEstimatePastABoundIsHeldToTheBoxAndSaid) {
+  // The discrepancy's Laplace step extrapolates and can leave the design box (a fresh
+  // concealed study printed "mu_s = 1.65 (1.08-1.1)"). Boxed tightly around the base fit of
+  // a discharge-time offset (+-0.002), the step must leave it; the values and intervals
+  // stay inside, and the statement says where the unbounded fit went.
+  const Judged j = judge(kTimeBias, 1.0, 400);
+  ASSERT_EQ(j.decision.verdict, Explanation::discrepancy);
+  const Eigen::VectorXd theta_hat = j.d.base.minima.front().theta;
+  auto bounds = base_bounds();
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    bounds[k].lower = theta_hat(static_cast<Eigen::Index>(k)) - 0.002;
+    bounds[k].upper = theta_hat(static_cast<Eigen::Index>(k)) + 0.002;
+  }
+  const CalibrationProblem boxed(bounds, without_held_out(base_targets(j.y)));
+  const DiscrepancyEvidence disc = discrepancy_evidence(boxed, theta_hat, setup_variables());
+  int outside = 0;
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    const double free_value = disc.unconstrained_theta(kk);
+    if (free_value < bounds[k].lower || free_value > bounds[k].upper) ++outside;
+    EXPECT_LE(bounds[k].lower, disc.lower[k]);
+    EXPECT_LE(disc.lower[k], disc.theta(kk));
+    EXPECT_LE(disc.theta(kk), disc.upper[k]);
+    EXPECT_LE(disc.upper[k], bounds[k].upper);
+    EXPECT_LE(bounds[k].lower, disc.base_lower[k]);
+    EXPECT_LE(disc.base_upper[k], bounds[k].upper);
+  }
+  ASSERT_GE(outside, 1) << "the step stayed inside +-0.002; the test needs a tighter box";
+  std::vector<ModelEvidence> evidences;
+  for (const auto& f : j.d.fits) evidences.push_back(f.evidence);
+  const ExplanationDecision d =
+      decide_explanation(j.d.detection, j.d.base_evidence, evidences, disc);
+  ASSERT_EQ(d.verdict, Explanation::discrepancy) << d.statement;
+  EXPECT_NE(d.statement.find("Unbounded, the fit with the discrepancy would put"),
+            std::string::npos)
+      << d.statement;
+  EXPECT_NE(d.statement.find("held to the design's range"), std::string::npos) << d.statement;
+  EXPECT_TRUE(d.statement.find("above the upper bound") != std::string::npos ||
+              d.statement.find("below the lower bound") != std::string::npos)
+      << d.statement;
+  std::printf("[model discrepancy] boxed: %s\n", d.statement.c_str());
 }
 
 TEST(ModelDiscrepancy, NeitherWithoutAMismatch) {
