@@ -77,17 +77,23 @@ void structure(const std::vector<Target>& targets, const SetupVariables& variabl
     }
 }
 
-// Central intervals at `confidence` of the Gaussian's marginals restricted to the
-// bounds (the uniform prior's box), so that each holds its truncated mean.
-std::vector<double> interval(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
-                             const std::vector<ParameterBounds>& bounds, double confidence,
-                             bool upper) {
-  std::vector<double> out;
+// Each marginal of N(mean, cov) restricted to its bounds (the uniform prior's box): its
+// mean and central interval at `confidence`, so that the value lies inside the interval.
+struct RestrictedMarginals {
+  Eigen::VectorXd value;
+  std::vector<double> lower, upper;
+};
+RestrictedMarginals restricted_marginals(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
+                                         const std::vector<ParameterBounds>& bounds,
+                                         double confidence) {
+  RestrictedMarginals out;
+  out.value.resize(mean.size());
   for (Eigen::Index j = 0; j < mean.size(); ++j) {
     const auto& b = bounds[static_cast<std::size_t>(j)];
-    const detail::TruncatedNormal t(mean(j), std::sqrt(std::max(cov(j, j), 0.0)), b.lower,
-                                    b.upper);
-    out.push_back(t.quantile(0.5 + (upper ? 0.5 : -0.5) * confidence));
+    const detail::TruncatedNormal t(mean(j), std::sqrt(std::max(cov(j, j), 0.0)), b.lower, b.upper);
+    out.value(j) = t.mean();
+    out.lower.push_back(t.quantile(0.5 - 0.5 * confidence));
+    out.upper.push_back(t.quantile(0.5 + 0.5 * confidence));
   }
   return out;
 }
@@ -255,21 +261,16 @@ DiscrepancyEvidence discrepancy_evidence(const CalibrationProblem& base,
   // marginal's mean and always lies inside its interval.
   out.bounds = base.parameters();
   out.unconstrained_theta = out.theta;
-  for (Eigen::Index j = 0; j < p; ++j) {
-    const auto& b = base.parameters()[static_cast<std::size_t>(j)];
-    out.theta(j) = detail::TruncatedNormal(out.theta(j),
-                                           std::sqrt(std::max(out.covariance(j, j), 0.0)),
-                                           b.lower, b.upper)
-                       .mean();
-  }
-  out.lower = interval(out.unconstrained_theta, out.covariance, base.parameters(),
-                       options.confidence, false);
-  out.upper = interval(out.unconstrained_theta, out.covariance, base.parameters(),
-                       options.confidence, true);
+  RestrictedMarginals with =
+      restricted_marginals(out.theta, out.covariance, out.bounds, options.confidence);
+  out.theta = std::move(with.value);
+  out.lower = std::move(with.lower);
+  out.upper = std::move(with.upper);
   const Node base_node = node(0.0, 0.0);
-  out.base_lower =
-      interval(theta_hat, base_node.cov, base.parameters(), options.confidence, false);
-  out.base_upper = interval(theta_hat, base_node.cov, base.parameters(), options.confidence, true);
+  RestrictedMarginals without =
+      restricted_marginals(theta_hat, base_node.cov, out.bounds, options.confidence);
+  out.base_lower = std::move(without.lower);
+  out.base_upper = std::move(without.upper);
 
   for (Eigen::Index i = 0; i < n; ++i) {
     const Target& t = base.targets()[static_cast<std::size_t>(i)];

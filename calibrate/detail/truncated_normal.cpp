@@ -38,9 +38,10 @@ double TruncatedNormal::mean_std() const {
 
 double TruncatedNormal::quantile_std(double q) const {
   if (mass_ > 0.0) {
-    const double x = alpha_ > 0.0
-                         ? gsl_cdf_ugaussian_Qinv(std::max(gsl_cdf_ugaussian_Q(alpha_) - q * mass_, 0.0))
-                         : gsl_cdf_ugaussian_Pinv(std::min(gsl_cdf_ugaussian_P(alpha_) + q * mass_, 1.0));
+    const double x =
+        alpha_ > 0.0
+            ? gsl_cdf_ugaussian_Qinv(std::max(gsl_cdf_ugaussian_Q(alpha_) - q * mass_, 0.0))
+            : gsl_cdf_ugaussian_Pinv(std::min(gsl_cdf_ugaussian_P(alpha_) + q * mass_, 1.0));
     return std::clamp(x, alpha_, beta_);
   }
   return std::min(alpha_ - std::log1p(-std::min(q, 1.0 - 1e-16)) / alpha_, beta_);

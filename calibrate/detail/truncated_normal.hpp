@@ -7,8 +7,9 @@
 //
 // Accurate far into the tails: when the bounds lie on one side of the mean the
 // upper-tail functions are used, and when even they underflow (the bounds more
-// than ~37 sd away) the tail's exponential limit is (mean lower + sd^2 / d for
-// a distance d, the Mills-ratio asymptote).
+// than ~37 sd away) the tail's exponential limit is: beyond a bound at distance
+// d from the mean the mass decays at rate d / sd^2, so the mean is the bound
+// plus sd^2 / d (the Mills-ratio asymptote).
 
 namespace demcal::calibrate::detail {
 
