@@ -40,6 +40,11 @@ calibrate::AdaptiveDesignOptions read_adaptive_design_keys(Table& d) {
   o.integration_points = integer(a, "integration_points", o.integration_points, 10, 100000);
   o.candidate_points = integer(a, "candidate_points", o.candidate_points, 1, 100000);
   o.exploration_points = integer(a, "exploration_points", o.exploration_points, 0, 100000);
+  // The swing-damping variants (BENCHMARKS.md "Issue 16, evening"), off by default.
+  o.acquisition_weight_batches = integer(a, "weight_batches", o.acquisition_weight_batches, 1, 2);
+  o.acquisition_tempering =
+      a.number_or("tempering", o.acquisition_tempering, between(0.0, true, 1.0, false));
+  o.space_filling_batch = a.boolean_or("space_filling", o.space_filling_batch);
   a.finish();
 
   Table s = d.table_or_empty("stopping");

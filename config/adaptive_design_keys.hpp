@@ -1,7 +1,8 @@
 #pragma once
 // The keys of an adaptive [design] (kind = "adaptive"; docs/adaptive_design.md §8): each
 // sets the calibrate::AdaptiveDesignOptions field of the same name, defaults there
-// ([design.acquisition] grid_points_per_axis sets acquisition_grid_points_per_axis):
+// ([design.acquisition] grid_points_per_axis sets acquisition_grid_points_per_axis, and
+// likewise weight_batches and tempering; space_filling sets space_filling_batch):
 //
 //   [design]
 //   kind = "adaptive"
@@ -21,6 +22,9 @@
 //   integration_points = 300          #   integer in [10, 100000]
 //   candidate_points = 96             #   integer in [1, 100000]
 //   exploration_points = 32           #   integer in [0, 100000]
+//   weight_batches = 1                #   integer in [1, 2]: acquisition_weight_batches
+//   tempering = 1.0                   #   number in (0, 1]: acquisition_tempering
+//   space_filling = false             #   true or false: space_filling_batch
 //   [design.stopping]                 # opt
 //   area_tolerance = 0.15             #   number in (0, 1)
 //   point_tolerance = 0.10            #   number in (0, 1)

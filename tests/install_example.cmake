@@ -1,7 +1,7 @@
 # ctest install_example: installs demcal into a fresh prefix, then configures,
 # builds and runs examples/fit-and-calibrate against it, as another project would.
 # -DBUILD_DIR (demcal's build tree) -DSOURCE_DIR (its sources) -DWORK (scratch)
-# [-DEXTRA_FLAGS].
+# -DCXX_COMPILER (the compiler demcal was built with) [-DEXTRA_FLAGS].
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
 function(run)
@@ -17,7 +17,11 @@ set(extra "")
 if(EXTRA_FLAGS)
   set(extra "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${EXTRA_FLAGS}")
 endif()
+# The example is compiled by demcal's own compiler: a sanitizer build's libraries carry that
+# compiler's instrumentation, which only its own runtime understands (clang-instrumented
+# code linked against GCC's libasan reports overflows that are not there).
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/fit-and-calibrate -B ${WORK}/build -G Ninja
-    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK}/prefix ${extra})
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
+    -DCMAKE_PREFIX_PATH=${WORK}/prefix ${extra})
 run(${CMAKE_COMMAND} --build ${WORK}/build)
 run(${WORK}/build/fit_and_calibrate ${SOURCE_DIR}/examples/fit-and-calibrate/table.csv)

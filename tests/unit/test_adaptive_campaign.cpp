@@ -119,6 +119,31 @@ TEST(AdaptiveCampaign, StoppedAndResumedEqualsUninterrupted) {
   fs::remove_all(parts);
 }
 
+// The swing-damping variants are TOML keys of [design.acquisition]; absent, the options
+// keep their defaults (off), so existing studies choose the same points.
+TEST(AdaptiveCampaign, AcquisitionVariantsAreKeys) {
+  const auto design_of = [](const std::string& design_lines) {
+    std::string text = slurp(kStudy);
+    text = text.substr(0, text.find("[design]")) + "[design]\nkind = \"adaptive\"\n" +
+           "parameters = { mu_r = { lower = 0.1, upper = 0.4 } }\n" + design_lines;
+    const auto study = config::build_study(config::parse_config_string(text, "adaptive.toml"));
+    EXPECT_TRUE(study.design && study.design->adaptive);
+    return *study.design->adaptive;
+  };
+  const calibrate::AdaptiveDesignOptions defaults;
+  const auto plain = design_of("");
+  EXPECT_EQ(plain.acquisition_weight_batches, defaults.acquisition_weight_batches);
+  EXPECT_EQ(plain.acquisition_tempering, defaults.acquisition_tempering);
+  EXPECT_EQ(plain.space_filling_batch, defaults.space_filling_batch);
+  const auto set = design_of(
+      "[design.acquisition]\nweight_batches = 2\ntempering = 0.5\nspace_filling = true\n");
+  EXPECT_EQ(set.acquisition_weight_batches, 2);
+  EXPECT_EQ(set.acquisition_tempering, 0.5);
+  EXPECT_TRUE(set.space_filling_batch);
+  EXPECT_NE(defaults.acquisition_tempering, 0.5);
+  EXPECT_FALSE(defaults.space_filling_batch);
+}
+
 // The adaptive keys, each refused by name when out of range or not for this kind.
 config::ConfigError read_error(const std::string& design_lines) {
   std::string text = slurp(kStudy);
@@ -147,6 +172,10 @@ TEST(AdaptiveCampaign, KeysAreReadStrictly) {
       {"[design.stopping]\nstable_batch = 2\n", "design.stopping.stable_batch"},
       {"[design.acquisition]\ngrid_points_per_axis = 3\n",
        "design.acquisition.grid_points_per_axis"},
+      {"[design.acquisition]\ntempering = 0\n", "design.acquisition.tempering"},
+      {"[design.acquisition]\ntempering = 1.5\n", "design.acquisition.tempering"},
+      {"[design.acquisition]\nweight_batches = 3\n", "design.acquisition.weight_batches"},
+      {"[design.acquisition]\nspace_filling = 1\n", "design.acquisition.space_filling"},
   };
   for (const auto& [lines, key] : cases) {
     const std::string what = read_error(lines).what();
