@@ -119,14 +119,19 @@ TEST(AdaptiveCampaign, StoppedAndResumedEqualsUninterrupted) {
   fs::remove_all(parts);
 }
 
+// The tiny study with an adaptive [design] over mu_r and the given lines after it.
+std::string adaptive_study(const std::string& design_lines) {
+  const std::string text = slurp(kStudy);
+  return text.substr(0, text.find("[design]")) + "[design]\nkind = \"adaptive\"\n" +
+         "parameters = { mu_r = { lower = 0.1, upper = 0.4 } }\n" + design_lines;
+}
+
 // The swing-damping variants are TOML keys of [design.acquisition]; absent, the options
 // keep their defaults (off), so existing studies choose the same points.
 TEST(AdaptiveCampaign, AcquisitionVariantsAreKeys) {
   const auto design_of = [](const std::string& design_lines) {
-    std::string text = slurp(kStudy);
-    text = text.substr(0, text.find("[design]")) + "[design]\nkind = \"adaptive\"\n" +
-           "parameters = { mu_r = { lower = 0.1, upper = 0.4 } }\n" + design_lines;
-    const auto study = config::build_study(config::parse_config_string(text, "adaptive.toml"));
+    const auto study = config::build_study(
+        config::parse_config_string(adaptive_study(design_lines), "adaptive.toml"));
     EXPECT_TRUE(study.design && study.design->adaptive);
     return *study.design->adaptive;
   };
@@ -146,11 +151,8 @@ TEST(AdaptiveCampaign, AcquisitionVariantsAreKeys) {
 
 // The adaptive keys, each refused by name when out of range or not for this kind.
 config::ConfigError read_error(const std::string& design_lines) {
-  std::string text = slurp(kStudy);
-  text = text.substr(0, text.find("[design]")) + "[design]\nkind = \"adaptive\"\n" +
-         "parameters = { mu_r = { lower = 0.1, upper = 0.4 } }\n" + design_lines;
   try {
-    config::build_study(config::parse_config_string(text, "adaptive.toml"));
+    config::build_study(config::parse_config_string(adaptive_study(design_lines), "adaptive.toml"));
   } catch (const config::ConfigError& e) {
     return e;
   }
