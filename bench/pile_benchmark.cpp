@@ -8,6 +8,11 @@
 //   --mode static  pour and settle first (reported as the pour figure, not part
 //                  of the static one), 500 warm-up steps (as bench_static.in's
 //                  "run 500"), then time --static-steps steps at fixed N.
+//   --tile-y K     (static mode) the larger case: the settled pile is copied K
+//                  times across the periodic slab thickness into a K times
+//                  thicker slab, with positions and velocities only (no spin,
+//                  no contact history), as LAMMPS's read_dump of the peer's
+//                  tiled dump builds it (bench/run_side_by_side.sh, tile cases).
 //
 // Prints one machine-readable line per figure (pour; in static mode also static)
 //   BENCH demcal mode pour threads 1 N 6000 steps ... particle_steps ... loop_s ...
@@ -124,6 +129,23 @@ void write_dump(const std::string& path, const Particles& p) {
   }
 }
 
+// The settled pile copied `tiles` times along y (the periodic axis) into an
+// empty box `tiles` times as thick; the copies meet as the images did.
+std::unique_ptr<demcal::dem::Simulation> tiled_pile(const demcal::dem::PouredSlabPileOptions& o,
+                                                    const Particles& settled, int tiles) {
+  demcal::dem::PouredSlabPileOptions wide = o;
+  wide.particles = 0;
+  wide.slab_thickness_diameters = o.slab_thickness_diameters * tiles;
+  auto sim = demcal::dem::make_poured_slab_pile(wide);
+  const int grain = sim->material_index("grain");
+  const double slab_m = o.slab_thickness_diameters * o.diameter_m;
+  for (int k = 0; k < tiles; ++k)
+    for (std::size_t i = 0; i < settled.size(); ++i)
+      sim->add_particle(settled.position_m[i] + demcal::dem::Vec3{0.0, k * slab_m, 0.0},
+                        settled.radius_m[i], grain, settled.velocity_m_s[i]);
+  return sim;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,6 +162,7 @@ int main(int argc, char** argv) {
   double max_time = 3.0;  // pile.in's maxsteps 600000 at dt 5e-6
   std::string dump;
   std::string order = "insertion";
+  int tile_y = 1;
   app.add_option("--particles,-N", particles, "number of particles")->check(CLI::PositiveNumber);
   app.add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "pour: whole run to rest; static: fixed-N steps on the settled pile")
@@ -156,7 +179,15 @@ int main(int argc, char** argv) {
                  "how the engine stores particles: insertion, or spatial (re-sorted by neighbour "
                  "cell at every neighbour build; dem/particle_order.hpp)")
       ->check(CLI::IsMember(demcal::dem::particle_order_names()));
+  app.add_option("--tile-y", tile_y,
+                 "static mode: copy the settled pile this many times across the periodic slab "
+                 "thickness before the static timing (the larger case)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
+  if (tile_y > 1 && mode != "static") {
+    std::fprintf(stderr, "error: --tile-y needs --mode static\n");
+    return 1;
+  }
 
   // OpenMP's default thread count is set to --threads, so that T threads means T
   // threads in any loop without a num_threads clause. Up to cffe346 the
@@ -202,6 +233,7 @@ int main(int argc, char** argv) {
     // too (same run, same figure), then times the fixed-N steps.
     report("pour", pour_steps, pour_ps, pour_s);
     if (mode == "static") {
+      if (tile_y > 1) sim = tiled_pile(o, sim->particles(), tile_y);
       sim->run_steps(warmup_steps);
       const std::int64_t s0 = sim->step_count();
       const double p0 = sim->particle_steps();

@@ -12,6 +12,12 @@
 #              phase is exactly the pour-mode run). LAMMPS: run_pile.sh, then run_bench.sh on
 #              LAMMPS's own settled pile (the 1-rank dump of the first repetition).
 #   pour<N>    pour figure only.      static<N>  static figure only.
+#   tile<N>x<K>  the larger case (issue 13): static figure at N*K particles. Each engine pours
+#              its own pile of N, as for static<N>, and copies it K times across the periodic
+#              slab thickness (K*5 d): demcal `--tile-y K`; LAMMPS `replicate 1 K 1` after
+#              read_dump, in a copy of bench_static.in made here (the peer's own file is not
+#              touched). Logged as static<N*K>; the pour of N is not timed. STATIC_STEPS_TILE
+#              (default 5000) timed steps.
 # Environment (defaults):
 #   R=3             repetitions          R6000=$R   repetitions for cases with N >= 6000
 #   CASES="pile3000 pour6000"          THREADS="1 2"
@@ -20,6 +26,8 @@
 #                   default since issue 13, the benchmark binary's own default is insertion);
 #                   each BENCH line records it ("order ...")
 #   DEMCAL_BENCH=<repo>/build-bench/bench/demcal_bench_pile
+#   LAMMPS_PILE=<dump>   a settled LAMMPS pile of the case's N (a pile.in dump, e.g. from an
+#                   earlier run's runs/ folder) used for the static figures instead of pouring one
 #   LOGDIR=<repo>/bench/logs   RUN_TIMEOUT=900 (s; a demcal run taking longer is logged as TIMEOUT)
 #   QUIET_BUSY=0.3  QUIET_WAIT=120   before a multi-thread run, wait (at most QUIET_WAIT s) until
 #                                    the other processes use less than QUIET_BUSY cores
@@ -35,6 +43,7 @@ R6000=${R6000:-$R}
 CASES=${CASES:-"pile3000 pour6000"}
 THREADS=${THREADS:-"1 2"}
 STATIC_STEPS=${STATIC_STEPS:-20000}
+STATIC_STEPS_TILE=${STATIC_STEPS_TILE:-5000}
 MUS=${MUS:-0.5}
 MUR=${MUR:-0.1}
 SEED=${SEED:-4767}
@@ -109,28 +118,32 @@ header() {  # rep threads
 
 aor_of() { $PY "$PEERS/tools/aor.py" "$1" | tail -1; }
 
-run_demcal() {  # N threads mode rep
-  local n=$1 t=$2 mode=$3 rep=$4 out=$TMP/demcal.out tf=$TMP/demcal.time dump=$TMP/demcal_pile.txt
+run_demcal() {  # N threads mode rep [tiles]
+  local n=$1 t=$2 mode=$3 rep=$4 tiles=${5:-1} out=$TMP/demcal.out tf=$TMP/demcal.time dump=$TMP/demcal_pile.txt
+  local steps=$STATIC_STEPS; [ "$tiles" -gt 1 ] && steps=$STATIC_STEPS_TILE
   wait_quiet "$t"
   local h; h=$(header "$rep")
   local s0; s0=$(cpu_snap)
   local rc=0
   timeout "$RUN_TIMEOUT" /usr/bin/time -v "$BIN" --particles "$n" --threads "$t" --mode "$mode" \
-    --static-steps "$STATIC_STEPS" --seed "$SEED" --mus "$MUS" --mur "$MUR" --particle-order "$ORDER" \
-    --dump "$dump" > "$out" 2> "$tf" || rc=$?
+    --static-steps "$steps" --seed "$SEED" --mus "$MUS" --mur "$MUR" --particle-order "$ORDER" \
+    --tile-y "$tiles" --dump "$dump" > "$out" 2> "$tf" || rc=$?
   if [ $rc = 124 ]; then  # a disturbed multi-thread run can crawl; log it and go on
-    echo "$h TIMEOUT after $RUN_TIMEOUT s, others_cores $(others_cores "$s0" "$(cpu_snap)" /dev/null)" | tee -a "$(logfile "pour$n" demcal "$t")"
+    local lt="pour$n"; [ "$tiles" -gt 1 ] && lt="static$((n * tiles))"
+    echo "$h TIMEOUT after $RUN_TIMEOUT s, others_cores $(others_cores "$s0" "$(cpu_snap)" /dev/null)" | tee -a "$(logfile "$lt" demcal "$t")"
     return 0
   elif [ $rc != 0 ]; then
     echo "demcal run failed:"; cat "$out" "$tf"; exit 1
   fi
   local s1; s1=$(cpu_snap)
   local aor tl; aor=$(aor_of "$dump"); tl="$($SUM time "$tf") others_cores $(others_cores "$s0" "$s1" "$tf")"
-  local lp; lp=$(logfile "pour$n" demcal "$t")
-  { echo "$h"; grep '^PILE' "$out"; grep '^BENCH.* mode pour ' "$out"; echo "$aor"; echo "$tl"; } >> "$lp"
+  if [ "$tiles" = 1 ]; then  # a tiled run's pour is the untiled case's figure: not logged twice
+    local lp; lp=$(logfile "pour$n" demcal "$t")
+    { echo "$h"; grep '^PILE' "$out"; grep '^BENCH.* mode pour ' "$out"; echo "$aor"; echo "$tl"; } >> "$lp"
+  fi
   grep '^BENCH.* mode pour ' "$out"
   if [ "$mode" = static ]; then
-    local ls; ls=$(logfile "static$n" demcal "$t")
+    local ls; ls=$(logfile "static$((n * tiles))" demcal "$t")
     { echo "$h"; grep '^BENCH.* mode static ' "$out"; echo "$aor"; echo "$tl"; } >> "$ls"
     grep '^BENCH.* mode static ' "$out"
   fi
@@ -173,8 +186,35 @@ run_lammps_static() {  # N ranks rep
   echo "$bl"
 }
 
+# The tiled LAMMPS case: bench_static.in with `replicate 1 K 1` after read_dump (a copy).
+run_lammps_tiled() {  # N K ranks rep
+  local n=$1 k=$2 np=$3 rep=$4
+  if [ -z "$STATIC_DUMP" ]; then
+    (cd "$PEERS/lammps" && SEED=$SEED TAG=prep ./run_pile.sh "$MUS" "$MUR" 1 "$n" > /dev/null 2>&1)
+    STATIC_DUMP="$PEERS/lammps/runs/pile_N${n}_mus${MUS}_mur${MUR}_np1_s${SEED}_prep.txt"
+  fi
+  local in=$PEERS/lammps/bench_static_tiled.in
+  sed '/^read_dump/a replicate       1 ${tiles} 1' "$PEERS/lammps/bench_static.in" > "$in"
+  grep -q '^replicate' "$in" || { echo "could not add replicate to bench_static.in" >&2; exit 1; }
+  wait_quiet "$np"
+  local h; h=$(header "$rep")
+  local s0; s0=$(cpu_snap)
+  local b="$PEERS/lammps/runs/bench_tiled_N${n}x${k}_np$np"
+  local c="lmp"; [ "$np" = 1 ] || c="mpirun --allow-run-as-root -np $np lmp"
+  (cd "$PEERS/lammps" && OMP_NUM_THREADS=1 /usr/bin/time -v $c -in "$in" -var in "$STATIC_DUMP" \
+     -var nstep "$(sed -n 2p "$STATIC_DUMP")" -var steps "$STATIC_STEPS_TILE" -var tiles "$k" \
+     -log "$b.log" -screen none 2> "$b.time") || { echo "LAMMPS tiled static failed:"; cat "$b.time"; exit 1; }
+  local s1; s1=$(cpu_snap)
+  local bl; bl=$($SUM lammps-static "$b.log" "$b.time" "$np")
+  local ls; ls=$(logfile "static$((n * k))" lammps "$np")
+  { echo "$h"; echo "$bl"; echo "$(aor_of "$STATIC_DUMP") (input pile, tiled ${k}x)"; echo "$($SUM time "$b.time") others_cores $(others_cores "$s0" "$s1" "$b.time")"; } >> "$ls"
+  echo "$bl"
+}
+
 for c in $CASES; do
   kind=${c%%[0-9]*}; n=${c#"$kind"}
+  tiles=1 STATIC_DUMP=${LAMMPS_PILE:-}  # each case settles its own LAMMPS pile of its N
+  if [ "$kind" = tile ]; then tiles=${n#*x}; n=${n%%x*}; fi
   reps=$R; [ "$n" -ge 6000 ] && reps=$R6000
   echo "=== case $c ($reps repetitions)"
   for rep in $(seq 1 "$reps"); do
@@ -184,6 +224,7 @@ for c in $CASES; do
         pile)   run_demcal "$n" "$t" static "$rep"; run_lammps_pour "$n" "$t" "$rep"; run_lammps_static "$n" "$t" "$rep" ;;
         pour)   run_demcal "$n" "$t" pour "$rep";   run_lammps_pour "$n" "$t" "$rep" ;;
         static) run_demcal "$n" "$t" static "$rep"; run_lammps_static "$n" "$t" "$rep" ;;
+        tile)   run_demcal "$n" "$t" static "$rep" "$tiles"; run_lammps_tiled "$n" "$tiles" "$t" "$rep" ;;
         *) echo "unknown case $c" >&2; exit 1 ;;
       esac
     done

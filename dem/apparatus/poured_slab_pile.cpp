@@ -47,6 +47,7 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
   sim->add_wall(std::make_unique<PlaneWall>(Vec3{-half, 0, 0}, Vec3{1, 0, 0}), w);
   sim->add_wall(std::make_unique<PlaneWall>(Vec3{half, 0, 0}, Vec3{-1, 0, 0}), w);
 
+  if (o.particles == 0) return sim;
   const double ix = o.inlet_half_width_diameters * d;
   PourOptions pour;
   pour.material = g;

@@ -11,6 +11,9 @@
 namespace demcal::dem {
 
 struct PouredSlabPileOptions {
+  // Grains poured from the inlet. 0 builds the empty box with its walls and
+  // materials ("grain", "wall"), for a caller that places its own grains (the
+  // benchmark's tiled pile).
   std::size_t particles = 6000;
   double diameter_m = 1e-3;
   double density_kg_m3 = 2650.0;
