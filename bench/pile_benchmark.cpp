@@ -163,7 +163,6 @@ int main(int argc, char** argv) {
   std::string dump;
   std::string order = "insertion";
   int tile_y = 1;
-  int chunks_per_thread = 1;
   app.add_option("--particles,-N", particles, "number of particles")->check(CLI::PositiveNumber);
   app.add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "pour: whole run to rest; static: fixed-N steps on the settled pile")
@@ -184,9 +183,6 @@ int main(int argc, char** argv) {
                  "static mode: copy the settled pile this many times across the periodic slab "
                  "thickness before the static timing (the larger case)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--chunks-per-thread", chunks_per_thread,
-                 "with --threads > 1: chunks per thread of each parallel loop (dem/thread_team.hpp)")
-      ->check(CLI::Range(1, 64));
   CLI11_PARSE(app, argc, argv);
   if (tile_y > 1 && mode != "static") {
     std::fprintf(stderr, "error: --tile-y needs --mode static\n");
@@ -204,7 +200,6 @@ int main(int argc, char** argv) {
     demcal::dem::PouredSlabPileOptions o;
     o.particles = particles;
     o.threads = threads;
-    o.chunks_per_thread = chunks_per_thread;
     o.seed = seed;
     o.sliding_friction = mus;
     o.rolling_friction = mur;
@@ -226,12 +221,12 @@ int main(int argc, char** argv) {
       const double rate = ps / loop_s;
       std::printf("BENCH demcal mode %s threads %d N %zu steps %lld particle_steps %.6e loop_s %.3f "
                   "PS/s %.4e PS/s/core %.4e maxRSS_MiB %.1f version %s contacts_per_particle %.3f "
-                  "listed_pairs_per_particle %.3f order %s chunks_per_thread %d\n",
+                  "listed_pairs_per_particle %.3f order %s\n",
                   what, threads, sim->particles().size(), static_cast<long long>(steps), ps, loop_s, rate,
                   rate / threads, peak_rss_mib(), DEMCAL_VERSION,
                   static_cast<double>(sim->contact_count()) / static_cast<double>(sim->particles().size()),
                   static_cast<double>(sim->neighbor_pair_count()) / static_cast<double>(sim->particles().size()),
-                  order.c_str(), chunks_per_thread);
+                  order.c_str());
       std::fflush(stdout);
     };
     // The pour phase is the whole pour-mode measurement; static mode reports it

@@ -13,8 +13,6 @@
 #   ORDERS="insertion"   particle orders of demcal (--particle-order) to run, each at 1 and 2
 #                        threads within every repetition, e.g. ORDERS="insertion spatial"
 #   LAMMPS=1             0 leaves LAMMPS out (demcal against itself only; lmp not needed)
-#   CHUNKS="1"           demcal's --chunks-per-thread values for the 2-thread runs, each run
-#                        within every repetition (the 1-thread run has one chunk whatever this is)
 # Each line of the log (bench/logs/<date>_contended_<machine>.log) holds the engine, the
 # threads or ranks, the particle order, PS/s/core of the static phase, the wall time and the
 # user and system CPU seconds of the whole run (/usr/bin/time) and the load average; a run that exceeds RUN_TIMEOUT is logged as TIMEOUT.
@@ -30,7 +28,6 @@ BIN=${DEMCAL_BENCH:-$REPO/build-bench/bench/demcal_bench_pile}
 BEFORE=${DEMCAL_BENCH_BEFORE:-}
 ORDERS=${ORDERS:-insertion}
 LAMMPS=${LAMMPS:-1}
-CHUNKS=${CHUNKS:-1}
 [ -x "$BIN" ] || { echo "no demcal benchmark at $BIN" >&2; exit 1; }
 [ "$LAMMPS" = 0 ] || command -v lmp >/dev/null || { echo "lmp (LAMMPS) not found" >&2; exit 1; }
 
@@ -55,17 +52,16 @@ bash -c 'while :; do :; done' &
 BUSY_PID=$!
 trap 'kill $BUSY_PID 2>/dev/null || true' EXIT
 
-run_demcal() {  # label binary threads [order] [chunks per thread]
+run_demcal() {  # label binary threads [order]
   local out; out=$(mktemp)
   local cpu; cpu=$(mktemp)
-  local order=${4:-insertion} chunks=${5:-1}
+  local order=${4:-insertion}
   local args=(--particles "$N" --threads "$3" --mode static --static-steps "$STATIC_STEPS")
   [ "$order" = insertion ] || args+=(--particle-order "$order")
-  [ "$chunks" = 1 ] || args+=(--chunks-per-thread "$chunks")
   local t0; t0=$(date +%s.%N)
   if timeout "$RUN_TIMEOUT" /usr/bin/time -f "%U %S" -o "$cpu" "$2" "${args[@]}" > "$out" 2>&1; then
     local wall; wall=$(echo "$(date +%s.%N) - $t0" | bc)
-    awk -v l="$1$([ "$chunks" = 1 ] || echo " chunks_per_thread $chunks")" -v w="$wall" -v o="$order" -v cpu="$(tail -1 "$cpu")" -v la="$(cut -d' ' -f1 /proc/loadavg)" '/mode pour/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") p = $(i + 1)}
+    awk -v l="$1" -v w="$wall" -v o="$order" -v cpu="$(tail -1 "$cpu")" -v la="$(cut -d' ' -f1 /proc/loadavg)" '/mode pour/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") p = $(i + 1)}
       /mode static/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") s = $(i + 1); t = $6}
       END {split(cpu, c, " "); printf "%s threads %s order %s pour_PS/s/core %s static_PS/s/core %s wall_s %.1f user_s %s sys_s %s loadavg %s\n", l, t, o, p, s, w, c[1], c[2], la}' "$out" | tee -a "$LOG"
   else
@@ -84,7 +80,7 @@ for rep in $(seq 1 "$R"); do
   echo "# rep $rep $(date -Is)" | tee -a "$LOG"
   for order in $ORDERS; do
     run_demcal demcal "$BIN" 1 "$order"
-    for c in $CHUNKS; do run_demcal demcal "$BIN" 2 "$order" "$c"; done
+    run_demcal demcal "$BIN" 2 "$order"
   done
   [ "$LAMMPS" = 0 ] || run_lammps 2
   if [ -n "$BEFORE" ]; then

@@ -20,8 +20,8 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
                          const Domain& domain, double skin_m, ThreadTeam* team) {
   const std::size_t n = pos.size();
   skin_m_ = skin_m;
-  // Static split over the team's chunks: the list comes out the same for any team.
-  const int members = team == nullptr ? 1 : team->chunks();
+  // Static split over the team's members: the list comes out the same for any team.
+  const int members = team == nullptr ? 1 : team->size();
   auto for_each_member = [&](auto&& body) {
     if (members == 1) {
       body(0, std::size_t{0}, n);

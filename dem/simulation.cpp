@@ -18,8 +18,6 @@ Simulation::Simulation(SimulationOptions options)
     : options_(std::move(options)), law_(make_contact_law(options_.contact)), rng_(options_.seed) {
   options_.domain.validate();
   if (options_.threads < 1) throw std::invalid_argument("threads must be >= 1");
-  if (options_.chunks_per_thread < 1 || options_.chunks_per_thread > 64)
-    throw std::invalid_argument("chunks_per_thread must lie in 1 .. 64");
   if (options_.time_step_s < 0.0) throw std::invalid_argument("time_step_s must be >= 0");
   if (!(options_.time_step_fraction_of_rayleigh > 0.0 &&
         options_.time_step_fraction_of_rayleigh <= 1.0))
@@ -166,12 +164,11 @@ void Simulation::prepare() {
   std::sort(wall_change_times_.begin(), wall_change_times_.end());
   wall_loads_.assign(walls_.size(), WallLoad{});
   wall_candidates_.resize(walls_.size());
-  team_ = std::make_unique<ThreadTeam>(options_.threads, options_.chunks_per_thread);
-  const auto chunks = static_cast<std::size_t>(team_->chunks());
-  chunk_scratch_.assign(chunks, ChunkScratch{});
-  chunk_force_.resize(chunks);
-  chunk_torque_.resize(chunks);
-  chunk_wall_loads_.resize(chunks);
+  team_ = std::make_unique<ThreadTeam>(options_.threads);
+  chunk_scratch_.assign(static_cast<std::size_t>(options_.threads), ChunkScratch{});
+  thread_force_.resize(options_.threads);
+  thread_torque_.resize(options_.threads);
+  thread_wall_loads_.resize(options_.threads);
   prepared_ = true;
   run_inserters();
   rebuild_neighbors();
@@ -310,7 +307,7 @@ void Simulation::reorder_particles() {
 }
 
 void Simulation::split_ownership() {
-  const int chunks = team_->chunks();
+  const int chunks = team_->size();
   const std::size_t n = particles_.size();
   owner_begin_.assign(static_cast<std::size_t>(chunks) + 1, n);
   owner_begin_[0] = 0;
@@ -374,7 +371,7 @@ void Simulation::step() {
   torque_before_.resize(n);
   const auto& x_build = neighbors_.positions_at_build();
   const bool comparable = x_build.size() == n;
-  const int chunks = team_->chunks();
+  const int chunks = team_->size();
   team_->run([&](int m) {
     double max_move2 = 0.0;
     const std::size_t end = ThreadTeam::split(n, chunks, m + 1);
@@ -476,7 +473,7 @@ void Simulation::compute_forces() {
 template <class Kernel, class Finish>
 void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   const std::size_t n = particles_.size();
-  const int chunks = team_->chunks();
+  const int chunks = team_->size();
   const auto& x = particles_.position_m;
   const auto& v = particles_.velocity_m_s;
   const auto& om = particles_.omega_rad_s;
@@ -489,25 +486,30 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   const double dt = dt_;
   const double now = time_s_;
   const std::size_t nwalls = walls_.size();
-  for (auto& l : chunk_wall_loads_) l.assign(nwalls, WallLoad{});
+  if (chunks > 1) {
+    for (int m = 0; m < chunks; ++m) {
+      thread_force_[m].resize(n);
+      thread_torque_[m].resize(n);
+    }
+  }
+  for (auto& l : thread_wall_loads_) l.assign(nwalls, WallLoad{});
 
   team_->run([&](int m) {
     // Chunk m owns the particles [own_begin, own_end): their pairs with
     // higher-indexed partners and their wall contacts. With one chunk the
     // forces go straight into the particle arrays.
     const std::size_t own_begin = owner_begin_[m], own_end = owner_begin_[m + 1];
-    // A chunk's buffer holds the window of particles it can write, its own
-    // and their partners (partners follow their owner in the list's order),
-    // from `lo` on; with one chunk the forces go straight into the particles.
+    std::vector<Vec3>& F = chunks == 1 ? particles_.force_n : thread_force_[m];
+    std::vector<Vec3>& T = chunks == 1 ? particles_.torque_nm : thread_torque_[m];
+    // Only the window of particles this chunk can write is cleared: its own
+    // and their partners (partners follow their owner in the list's order).
     const std::size_t lo = chunks == 1 ? 0 : own_begin;
     const std::size_t hi = chunks == 1 ? n : std::max(window_end_[m], own_end);
-    std::vector<Vec3>& F = chunks == 1 ? particles_.force_n : chunk_force_[m];
-    std::vector<Vec3>& T = chunks == 1 ? particles_.torque_nm : chunk_torque_[m];
-    if (F.size() < hi - lo) F.resize(hi - lo);
-    if (T.size() < hi - lo) T.resize(hi - lo);
-    std::fill(F.begin(), F.begin() + static_cast<std::ptrdiff_t>(hi - lo), Vec3{});
-    std::fill(T.begin(), T.begin() + static_cast<std::ptrdiff_t>(hi - lo), Vec3{});
-    std::vector<WallLoad>& my_loads = chunk_wall_loads_[m];
+    std::fill(F.begin() + static_cast<std::ptrdiff_t>(lo),
+              F.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    std::fill(T.begin() + static_cast<std::ptrdiff_t>(lo),
+              T.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    std::vector<WallLoad>& my_loads = thread_wall_loads_[m];
     double elastic = 0.0;
     std::size_t contacts = 0;
 
@@ -578,10 +580,10 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         kernel(k, coef[mi * nm + matp[j]], list.history[p], cf);
         const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
         const Vec3 nxft = cross(k.normal, cf.tangential_force_n);
-        Fp[i - lo] += fi;
-        Fp[j - lo] -= fi;
-        Tp[i - lo] += cf.torque_i_nm - k.lever_i_m * nxft;
-        Tp[j - lo] += cf.torque_j_nm - k.lever_j_m * nxft;
+        Fp[i] += fi;
+        Fp[j] -= fi;
+        Tp[i] += cf.torque_i_nm - k.lever_i_m * nxft;
+        Tp[j] += cf.torque_j_nm - k.lever_j_m * nxft;
         elastic += cf.elastic_energy_j;
         ++contacts;
       }
@@ -639,8 +641,8 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         ContactForce cf;
         kernel(k, coefficients_[mat[i] * nm + mw], cand.history[c], cf);
         const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
-        F[i - lo] += fi;
-        T[i - lo] += cf.torque_i_nm - k.lever_i_m * cross(k.normal, cf.tangential_force_n);
+        F[i] += fi;
+        T[i] += cf.torque_i_nm - k.lever_i_m * cross(k.normal, cf.tangential_force_n);
         WallLoad& load = my_loads[wi];
         load.force_n -= fi;
         load.torque_nm += cross(cp.point_m - ref, -fi) - cf.torque_i_nm;
@@ -666,8 +668,8 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         Vec3 fs, ts;
         for (int q = 0; q < chunks; ++q) {
           if (i < owner_begin_[q] || i >= std::max(window_end_[q], owner_begin_[q + 1])) continue;
-          fs += chunk_force_[q][i - owner_begin_[q]];
-          ts += chunk_torque_[q][i - owner_begin_[q]];
+          fs += thread_force_[q][i];
+          ts += thread_torque_[q][i];
         }
         particles_.force_n[i] = fs;
         particles_.torque_nm[i] = ts;
@@ -687,9 +689,9 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   for (std::size_t w = 0; w < nwalls; ++w) {
     WallLoad total;
     for (int m = 0; m < chunks; ++m) {
-      total.force_n += chunk_wall_loads_[m][w].force_n;
-      total.torque_nm += chunk_wall_loads_[m][w].torque_nm;
-      total.contacts += chunk_wall_loads_[m][w].contacts;
+      total.force_n += thread_wall_loads_[m][w].force_n;
+      total.torque_nm += thread_wall_loads_[m][w].torque_nm;
+      total.contacts += thread_wall_loads_[m][w].contacts;
     }
     wall_loads_[w] = total;
   }

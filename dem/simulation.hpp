@@ -48,12 +48,6 @@ struct SimulationOptions {
   double skin_fraction_of_diameter = 0.3;
   std::uint64_t seed = 1;
   int threads = 1;
-  // With threads > 1, each parallel loop is cut into threads x this many
-  // chunks that the threads claim as they come free (dem/thread_team.hpp): on
-  // a machine where another process shares a core, the thread that shares it
-  // does fewer chunks instead of holding the others back. Results are
-  // bit-identical for a given (threads, chunks_per_thread); 1 to 64.
-  int chunks_per_thread = 1;
   // Instability guard: a particle faster than this stops the run. 0 = derived
   // from the box: ten times the free-fall speed over its largest dimension.
   double max_speed_m_s = 0.0;
@@ -192,12 +186,10 @@ class Simulation {
   // forces on particles up to window_end_[m] (its partners). Set at each build.
   std::vector<std::size_t> owner_begin_;
   std::vector<std::size_t> window_end_;
-  // Per-chunk force buffers over the chunk's window [owner_begin_[m],
-  // max(window_end_[m], owner_begin_[m+1])), indexed from its start; summed
-  // in chunk order so results repeat exactly.
-  std::vector<std::vector<Vec3>> chunk_force_;
-  std::vector<std::vector<Vec3>> chunk_torque_;
-  std::vector<std::vector<WallLoad>> chunk_wall_loads_;  // [chunk][wall]
+  // Per-chunk force buffers; summed in chunk order so results repeat exactly.
+  std::vector<std::vector<Vec3>> thread_force_;
+  std::vector<std::vector<Vec3>> thread_torque_;
+  std::vector<std::vector<WallLoad>> thread_wall_loads_;  // [thread][wall]
   std::vector<Vec3> force_before_;   // last step's force, to undo the velocity prediction
   std::vector<Vec3> torque_before_;
 

@@ -15,13 +15,10 @@ inline void cpu_relax() {
 
 }  // namespace
 
-ThreadTeam::ThreadTeam(int size, int chunks_per_member)
-    : size_(size), chunks_(size == 1 ? 1 : size * chunks_per_member) {
+ThreadTeam::ThreadTeam(int size) : size_(size) {
   if (size < 1) throw std::invalid_argument("a thread team needs at least one member");
-  if (chunks_per_member < 1 || chunks_per_member > 64)
-    throw std::invalid_argument("a thread team needs 1 to 64 chunks per member");
   // No chunk is open until the first run.
-  next_chunk_.store(static_cast<std::uint32_t>(chunks_), std::memory_order_relaxed);
+  next_chunk_.store(static_cast<std::uint32_t>(size), std::memory_order_relaxed);
   workers_.reserve(static_cast<std::size_t>(size - 1));
   for (int m = 1; m < size; ++m) workers_.emplace_back([this] { worker(); });
 }
@@ -51,7 +48,7 @@ void ThreadTeam::wait_while_equal(const std::atomic<std::uint32_t>& word, std::u
 }
 
 void ThreadTeam::work_on_chunks() {
-  const auto chunks = static_cast<std::uint32_t>(chunks_);
+  const auto chunks = static_cast<std::uint32_t>(size_);
   for (;;) {
     const std::uint32_t chunk = next_chunk_.fetch_add(1, std::memory_order_acq_rel);
     if (chunk >= chunks) return;

@@ -10,15 +10,14 @@
 // kernel had descheduled, and a 2-thread run slowed down 10-25x
 // (BENCHMARKS.md).
 //
-// Here the work of a run is a fixed set of chunks, `chunks_per_member` per
-// member of the team, that any thread may take: the caller and the workers
-// claim chunks until none is left. When a worker is descheduled, or still
-// asleep when the run starts, the others take its chunks instead of waiting
-// for it; with several chunks per member a thread that shares its core with
-// another process ends up doing fewer of them, and the run waits at most for
-// the one chunk such a thread holds. Chunk c is always the same work and
-// writes the same buffers, whichever thread runs it, so a run is bit-identical
-// for a given thread count. A thread that finds nothing to do spins briefly, then sleeps on a
+// Here the work of a run is a fixed set of chunks, one per member of the
+// team, that any thread may take: the caller and the workers claim chunks
+// until none is left. When a worker is descheduled, or still asleep when the
+// run starts, the caller takes its chunk instead of waiting for it, so a
+// 2-thread run on a busy machine degrades to about the speed of one thread,
+// not below it. Chunk c is always the same work and writes the same buffers,
+// whichever thread runs it, so a run is bit-identical for a given thread
+// count. A thread that finds nothing to do spins briefly, then sleeps on a
 // futex (std::atomic::wait) and gives its core back. A team of one runs the
 // work on the caller, with no thread and no synchronisation at all.
 
@@ -32,18 +31,15 @@ namespace demcal::dem {
 
 class ThreadTeam {
  public:
-  // Starts size - 1 worker threads (the caller is member 0). A run has
-  // size * chunks_per_member chunks; a team of one has one chunk.
-  explicit ThreadTeam(int size = 1, int chunks_per_member = 1);
+  // Starts size - 1 worker threads (the caller is member 0).
+  explicit ThreadTeam(int size = 1);
   ~ThreadTeam();
   ThreadTeam(const ThreadTeam&) = delete;
   ThreadTeam& operator=(const ThreadTeam&) = delete;
 
   int size() const { return size_; }
-  // How many chunks every run is cut into (fixed for the team's life).
-  int chunks() const { return chunks_; }
 
-  // Calls fn(chunk) for every chunk 0 .. chunks()-1, each once, on whichever
+  // Calls fn(chunk) for every chunk 0 .. size()-1, each once, on whichever
   // thread claims it (the caller works too), and returns when all are done.
   // fn must not throw (the engine's loops report errors through their results).
   template <class Fn>
@@ -71,7 +67,6 @@ class ThreadTeam {
   void wait_while_equal(const std::atomic<std::uint32_t>& word, std::uint32_t old);
 
   int size_ = 1;
-  int chunks_ = 1;
   std::vector<std::thread> workers_;
   Call call_ = nullptr;
   void* context_ = nullptr;

@@ -21,7 +21,6 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
   so.time_step_s = o.time_step_s;
   so.seed = o.seed;
   so.threads = o.threads;
-  so.chunks_per_thread = o.chunks_per_thread;
   so.particle_order = o.particle_order;
   auto sim = std::make_unique<Simulation>(so);
 

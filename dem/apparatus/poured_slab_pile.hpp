@@ -36,7 +36,6 @@ struct PouredSlabPileOptions {
   double time_step_s = 5e-6;
   std::uint64_t seed = 4767;
   int threads = 1;
-  int chunks_per_thread = 1;  // SimulationOptions::chunks_per_thread
   ParticleOrder particle_order = ParticleOrder::kInsertion;  // dem/particle_order.hpp
 };
 

@@ -5,7 +5,6 @@
 // before chaos amplifies the different summation order), runs repeat bit for
 // bit at 1 and 2 threads, and the latch of the discharge recorder follows a
 // grain by id across a reorder.
-#include "frictional_bed.hpp"
 #include "physics_fixtures.hpp"
 
 #include "dem/measure/discharge.hpp"
@@ -21,13 +20,79 @@
 namespace demcal::dem {
 namespace {
 
-using testing::bitwise_equal;
-using testing::by_id;
-using testing::ById;
-using testing::frictional_bed;
-using testing::kRadius;
-using testing::moved_particles;
-using testing::shuffled_lattice;
+constexpr double kRadius = 0.5e-3;
+
+// Positions of a lattice of nx x ny x nz spheres, listed in a shuffled order so
+// that insertion order and spatial order differ everywhere.
+std::vector<Vec3> shuffled_lattice(int nx, int ny, int nz, double spacing, double z0,
+                                   std::uint64_t seed) {
+  std::vector<Vec3> sites;
+  for (int iz = 0; iz < nz; ++iz)
+    for (int iy = 0; iy < ny; ++iy)
+      for (int ix = 0; ix < nx; ++ix)
+        sites.push_back({(ix + 0.5) * spacing, (iy + 0.5) * spacing, z0 + (iz + 0.5) * spacing});
+  Random rng(seed);
+  for (std::size_t i = sites.size(); i > 1; --i) {
+    const auto j = static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(i)));
+    std::swap(sites[i - 1], sites[std::min(j, i - 1)]);
+  }
+  return sites;
+}
+
+// A frictional bed of 6 x 6 x 8 spheres with random velocities, dropped onto a
+// frictional floor in a box periodic in x and y: tangential and rolling springs
+// between particles and against the floor, pairs through the periodic images.
+std::unique_ptr<Simulation> frictional_bed(ParticleOrder order, int threads) {
+  const double spacing = 2.05 * kRadius;
+  const double side = 6 * spacing;
+  auto o = testing::options_in_box({0, 0, -0.001}, {side, side, 0.03}, {0, 0, -9.81});
+  o.domain.periodic = {true, true, false};
+  o.contact.rolling = "epsd";
+  o.threads = threads;
+  o.particle_order = order;
+  auto s = testing::make_scene(o, testing::interaction(0.6, 0.5, 0.1));
+  s.sim->add_wall(std::make_unique<PlaneWall>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), s.material);
+  Random rng(11);
+  for (const Vec3& x : shuffled_lattice(6, 6, 8, spacing, 0.0, 5)) {
+    const Vec3 v{rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05)};
+    s.sim->add_particle(x, kRadius, s.material, v);
+  }
+  return std::move(s.sim);
+}
+
+// State by particle id.
+struct ById {
+  std::vector<Vec3> position, velocity, omega;
+};
+ById by_id(const Particles& p) {
+  ById out;
+  out.position.resize(p.size());
+  out.velocity.resize(p.size());
+  out.omega.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto id = static_cast<std::size_t>(p.id.at(i));
+    out.position.at(id) = p.position_m[i];
+    out.velocity.at(id) = p.velocity_m_s[i];
+    out.omega.at(id) = p.omega_rad_s[i];
+  }
+  return out;
+}
+
+bool bitwise_equal(const Particles& a, const Particles& b) {
+  if (a.size() != b.size() || a.id != b.id) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (a.position_m[i][k] != b.position_m[i][k] || a.velocity_m_s[i][k] != b.velocity_m_s[i][k] ||
+          a.omega_rad_s[i][k] != b.omega_rad_s[i][k])
+        return false;
+  return true;
+}
+
+std::size_t moved_particles(const Particles& p) {
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) moved += p.id[i] != static_cast<std::int64_t>(i);
+  return moved;
+}
 
 TEST(ParticleOrder, SpatialOrderIsAStablePermutationByCell) {
   Domain d;
