@@ -129,23 +129,6 @@ void write_dump(const std::string& path, const Particles& p) {
   }
 }
 
-// The settled pile copied `tiles` times along y (the periodic axis) into an
-// empty box `tiles` times as thick; the copies meet as the images did.
-std::unique_ptr<demcal::dem::Simulation> tiled_pile(const demcal::dem::PouredSlabPileOptions& o,
-                                                    const Particles& settled, int tiles) {
-  demcal::dem::PouredSlabPileOptions wide = o;
-  wide.particles = 0;
-  wide.slab_thickness_diameters = o.slab_thickness_diameters * tiles;
-  auto sim = demcal::dem::make_poured_slab_pile(wide);
-  const int grain = sim->material_index("grain");
-  const double slab_m = o.slab_thickness_diameters * o.diameter_m;
-  for (int k = 0; k < tiles; ++k)
-    for (std::size_t i = 0; i < settled.size(); ++i)
-      sim->add_particle(settled.position_m[i] + demcal::dem::Vec3{0.0, k * slab_m, 0.0},
-                        settled.radius_m[i], grain, settled.velocity_m_s[i]);
-  return sim;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -233,7 +216,7 @@ int main(int argc, char** argv) {
     // too (same run, same figure), then times the fixed-N steps.
     report("pour", pour_steps, pour_ps, pour_s);
     if (mode == "static") {
-      if (tile_y > 1) sim = tiled_pile(o, sim->particles(), tile_y);
+      if (tile_y > 1) sim = demcal::dem::copy_across_slab(o, sim->particles(), tile_y);
       sim->run_steps(warmup_steps);
       const std::int64_t s0 = sim->step_count();
       const double p0 = sim->particle_steps();

@@ -7,6 +7,8 @@
 #include "dem/size_distribution.hpp"
 #include "dem/wall/plane_wall.hpp"
 
+#include <stdexcept>
+
 namespace demcal::dem {
 
 std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o) {
@@ -59,6 +61,22 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
   sim->add_inserter(
       make_pour_inserter(make_box_region({-ix, 0.0, o.inlet_bottom_m}, {ix, slab, o.inlet_top_m}),
                          make_monodisperse(d), pour));
+  return sim;
+}
+
+std::unique_ptr<Simulation> copy_across_slab(const PouredSlabPileOptions& o,
+                                             const Particles& grains, int copies) {
+  if (copies < 1) throw std::invalid_argument("copy_across_slab needs at least one copy");
+  PouredSlabPileOptions box = o;
+  box.particles = 0;
+  box.slab_thickness_diameters = o.slab_thickness_diameters * copies;
+  auto sim = make_poured_slab_pile(box);
+  const int grain = sim->material_index("grain");
+  const double slab_m = o.slab_thickness_diameters * o.diameter_m;
+  for (int k = 0; k < copies; ++k)
+    for (std::size_t i = 0; i < grains.size(); ++i)
+      sim->add_particle(grains.position_m[i] + Vec3{0.0, k * slab_m, 0.0}, grains.radius_m[i],
+                        grain, grains.velocity_m_s[i]);
   return sim;
 }
 

@@ -41,6 +41,13 @@ struct PouredSlabPileOptions {
 
 std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& options);
 
+// The grains copied `copies` times across the periodic slab thickness into the
+// empty box of `options` made `copies` times as thick, positions and
+// velocities only (no spin, no contact history), as LAMMPS's `replicate`
+// builds it: the benchmark's larger case. The copies meet as the images did.
+std::unique_ptr<Simulation> copy_across_slab(const PouredSlabPileOptions& options,
+                                             const Particles& grains, int copies);
+
 // Runs until everything is poured and the rms speed falls below rest_speed_m_s,
 // or until max_time_s. Returns true when it came to rest.
 bool run_until_at_rest(Simulation& sim, double rest_speed_m_s, double max_time_s,

@@ -116,21 +116,13 @@ TEST(PouredPile, CopiesAcrossThePeriodicAxisMoveAsTheOriginal) {
   const Particles& p = poured->particles();
   ASSERT_GT(p.size(), 300u);
   const double slab = o.slab_thickness_diameters * o.diameter_m;
-  auto copy_into = [&](int tiles) {
-    PouredSlabPileOptions box = o;
-    box.particles = 0;
-    box.slab_thickness_diameters = o.slab_thickness_diameters * tiles;
-    auto sim = make_poured_slab_pile(box);
-    EXPECT_EQ(sim->particles().size(), 0u);
-    EXPECT_EQ(sim->walls().size(), 3u);
-    for (int k = 0; k < tiles; ++k)
-      for (std::size_t i = 0; i < p.size(); ++i)
-        sim->add_particle(p.position_m[i] + Vec3{0.0, k * slab, 0.0}, p.radius_m[i],
-                          sim->material_index("grain"), p.velocity_m_s[i]);
-    return sim;
-  };
-  auto single = copy_into(1);
-  auto tiled = copy_into(3);
+  PouredSlabPileOptions empty = o;
+  empty.particles = 0;
+  EXPECT_EQ(make_poured_slab_pile(empty)->particles().size(), 0u);
+  auto single = copy_across_slab(o, p, 1);
+  EXPECT_EQ(single->walls().size(), 3u);
+  auto tiled = copy_across_slab(o, p, 3);
+  EXPECT_EQ(tiled->walls().size(), 3u);
   single->run_steps(2000);
   tiled->run_steps(2000);
   const std::size_t n = p.size();
