@@ -146,6 +146,7 @@ int main(int argc, char** argv) {
   std::string dump;
   std::string order = "insertion";
   int tile_y = 1;
+  std::string parking = "adaptive";
   app.add_option("--particles,-N", particles, "number of particles")->check(CLI::PositiveNumber);
   app.add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
   app.add_option("--mode", mode, "pour: whole run to rest; static: fixed-N steps on the settled pile")
@@ -162,6 +163,10 @@ int main(int argc, char** argv) {
                  "how the engine stores particles: insertion, or spatial (re-sorted by neighbour "
                  "cell at every neighbour build; dem/particle_order.hpp)")
       ->check(CLI::IsMember(demcal::dem::particle_order_names()));
+  app.add_option("--worker-parking", parking,
+                 "whether the thread team may park its workers when they slow it down: adaptive "
+                 "(default), never (up to 2026-12-03), always (dem/worker_parking.hpp)")
+      ->check(CLI::IsMember(demcal::dem::worker_parking_names()));
   app.add_option("--tile-y", tile_y,
                  "static mode: copy the settled pile this many times across the periodic slab "
                  "thickness before the static timing (the larger case)")
@@ -187,6 +192,7 @@ int main(int argc, char** argv) {
     o.sliding_friction = mus;
     o.rolling_friction = mur;
     o.particle_order = demcal::dem::parse_particle_order(order);
+    o.worker_parking = demcal::dem::parse_worker_parking(parking);
     auto sim = demcal::dem::make_poured_slab_pile(o);
     using clock = std::chrono::steady_clock;
 
@@ -204,12 +210,14 @@ int main(int argc, char** argv) {
       const double rate = ps / loop_s;
       std::printf("BENCH demcal mode %s threads %d N %zu steps %lld particle_steps %.6e loop_s %.3f "
                   "PS/s %.4e PS/s/core %.4e maxRSS_MiB %.1f version %s contacts_per_particle %.3f "
-                  "listed_pairs_per_particle %.3f order %s\n",
+                  "listed_pairs_per_particle %.3f order %s parking %s parked %d probes %llu switches %llu\n",
                   what, threads, sim->particles().size(), static_cast<long long>(steps), ps, loop_s, rate,
                   rate / threads, peak_rss_mib(), DEMCAL_VERSION,
                   static_cast<double>(sim->contact_count()) / static_cast<double>(sim->particles().size()),
                   static_cast<double>(sim->neighbor_pair_count()) / static_cast<double>(sim->particles().size()),
-                  order.c_str());
+                  order.c_str(), parking.c_str(), sim->worker_parking()->settled_parked() ? 1 : 0,
+                  static_cast<unsigned long long>(sim->worker_parking()->probes()),
+                  static_cast<unsigned long long>(sim->worker_parking()->switches()));
       std::fflush(stdout);
     };
     // The pour phase is the whole pour-mode measurement; static mode reports it

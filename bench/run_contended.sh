@@ -7,7 +7,9 @@
 #
 # Per repetition, interleaved: demcal 1 thread, demcal 2 threads, LAMMPS 2 ranks, and, when
 # DEMCAL_BENCH_BEFORE is set (a benchmark binary of an older build), that binary at 1 and at
-# 2 threads, so a before/after comparison is measured under the same load.
+# 2 threads (in each of ORDERS), so a before/after comparison is measured under the same load.
+# The log line of a build that has worker parking (dem/worker_parking.hpp) ends with where its
+# rule settled at the end of the static phase (parked 0|1) and how often it switched.
 # Environment (defaults): R=3  N=3000  STATIC_STEPS=10000  RUN_TIMEOUT=600 (s)
 #   DEMCAL_BENCH=<repo>/build-bench/bench/demcal_bench_pile  DEMCAL_BENCH_BEFORE=(unset)
 #   ORDERS="insertion"   particle orders of demcal (--particle-order) to run, each at 1 and 2
@@ -62,8 +64,8 @@ run_demcal() {  # label binary threads [order]
   if timeout "$RUN_TIMEOUT" /usr/bin/time -f "%U %S" -o "$cpu" "$2" "${args[@]}" > "$out" 2>&1; then
     local wall; wall=$(echo "$(date +%s.%N) - $t0" | bc)
     awk -v l="$1" -v w="$wall" -v o="$order" -v cpu="$(tail -1 "$cpu")" -v la="$(cut -d' ' -f1 /proc/loadavg)" '/mode pour/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") p = $(i + 1)}
-      /mode static/ {for (i = 1; i <= NF; i++) if ($i == "PS/s/core") s = $(i + 1); t = $6}
-      END {split(cpu, c, " "); printf "%s threads %s order %s pour_PS/s/core %s static_PS/s/core %s wall_s %.1f user_s %s sys_s %s loadavg %s\n", l, t, o, p, s, w, c[1], c[2], la}' "$out" | tee -a "$LOG"
+      /mode static/ {for (i = 1; i <= NF; i++) {if ($i == "PS/s/core") s = $(i + 1); if ($i == "parked") pk = " parked " $(i + 1); if ($i == "switches") sw = " switches " $(i + 1)}; t = $6}
+      END {split(cpu, c, " "); printf "%s threads %s order %s pour_PS/s/core %s static_PS/s/core %s wall_s %.1f user_s %s sys_s %s loadavg %s%s%s\n", l, t, o, p, s, w, c[1], c[2], la, pk, sw}' "$out" | tee -a "$LOG"
   else
     echo "$1 threads $3 order $order TIMEOUT after $RUN_TIMEOUT s loadavg $(cut -d' ' -f1 /proc/loadavg)" | tee -a "$LOG"
   fi
@@ -84,7 +86,9 @@ for rep in $(seq 1 "$R"); do
   done
   [ "$LAMMPS" = 0 ] || run_lammps 2
   if [ -n "$BEFORE" ]; then
-    run_demcal demcal-before "$BEFORE" 1
-    run_demcal demcal-before "$BEFORE" 2
+    for order in $ORDERS; do
+      run_demcal demcal-before "$BEFORE" 1 "$order"
+      run_demcal demcal-before "$BEFORE" 2 "$order"
+    done
   fi
 done

@@ -164,7 +164,8 @@ void Simulation::prepare() {
   std::sort(wall_change_times_.begin(), wall_change_times_.end());
   wall_loads_.assign(walls_.size(), WallLoad{});
   wall_candidates_.resize(walls_.size());
-  team_ = std::make_unique<ThreadTeam>(options_.threads);
+  team_ = std::make_unique<ThreadTeam>(options_.threads, options_.worker_parking,
+                                       options_.worker_parking_options);
   chunk_scratch_.assign(static_cast<std::size_t>(options_.threads), ChunkScratch{});
   thread_force_.resize(options_.threads);
   thread_torque_.resize(options_.threads);

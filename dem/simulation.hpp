@@ -48,6 +48,11 @@ struct SimulationOptions {
   double skin_fraction_of_diameter = 0.3;
   std::uint64_t seed = 1;
   int threads = 1;
+  // Whether the thread team may park its workers when they slow it down, as on
+  // a machine another process shares (dem/worker_parking.hpp). Results are the
+  // same bit for bit whatever this is: it only moves chunks between threads.
+  WorkerParking worker_parking = WorkerParking::kAdaptive;
+  WorkerParkingOptions worker_parking_options;
   // Instability guard: a particle faster than this stops the run. 0 = derived
   // from the box: ten times the free-fall speed over its largest dimension.
   double max_speed_m_s = 0.0;
@@ -124,6 +129,11 @@ class Simulation {
   }
   const ContactLaw& contact_law() const { return law_; }
   std::size_t neighbor_builds() const { return neighbors_.build_count(); }
+  // The thread team's parking rule: where it settled, how often it probed and
+  // switched; nullptr before the first step.
+  const WorkerParkingPolicy* worker_parking() const {
+    return team_ ? &team_->parking() : nullptr;
+  }
   std::size_t contact_count() const { return contacts_; }  // particle and wall contacts, last step
   std::size_t neighbor_pair_count() const { return neighbors_.pair_count(); }
   EnergyBudget energy() const;

@@ -15,7 +15,8 @@ inline void cpu_relax() {
 
 }  // namespace
 
-ThreadTeam::ThreadTeam(int size) : size_(size) {
+ThreadTeam::ThreadTeam(int size, WorkerParking parking, WorkerParkingOptions parking_options)
+    : size_(size), parking_(parking, parking_options) {
   if (size < 1) throw std::invalid_argument("a thread team needs at least one member");
   // No chunk is open until the first run.
   next_chunk_.store(static_cast<std::uint32_t>(size), std::memory_order_relaxed);

@@ -20,8 +20,17 @@
 // count. A thread that finds nothing to do spins briefly, then sleeps on a
 // futex (std::atomic::wait) and gives its core back. A team of one runs the
 // work on the caller, with no thread and no synchronisation at all.
+//
+// On a shared machine even that is slower than one thread (a chunk half done
+// by a descheduled worker cannot be taken over), so the team can also park its
+// workers and run every chunk on the caller: same chunks, same buffers, same
+// results bit for bit. Whether it does is decided during the run from its own
+// measured wall time (dem/worker_parking.hpp).
+
+#include "dem/worker_parking.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <thread>
 #include <type_traits>
@@ -31,8 +40,10 @@ namespace demcal::dem {
 
 class ThreadTeam {
  public:
-  // Starts size - 1 worker threads (the caller is member 0).
-  explicit ThreadTeam(int size = 1);
+  // Starts size - 1 worker threads (the caller is member 0). `parking` says
+  // whether they may be parked (dem/worker_parking.hpp); it never changes results.
+  explicit ThreadTeam(int size = 1, WorkerParking parking = WorkerParking::kAdaptive,
+                      WorkerParkingOptions parking_options = {});
   ~ThreadTeam();
   ThreadTeam(const ThreadTeam&) = delete;
   ThreadTeam& operator=(const ThreadTeam&) = delete;
@@ -48,9 +59,20 @@ class ThreadTeam {
       fn(0);
       return;
     }
-    run_erased([](void* f, int chunk) { (*static_cast<std::remove_reference_t<Fn>*>(f))(chunk); },
-               static_cast<void*>(&fn));
+    const auto start = std::chrono::steady_clock::now();
+    if (parking_.park()) {
+      // The chunks in their own order on the caller: the workers sleep.
+      for (int chunk = 0; chunk < size_; ++chunk) fn(chunk);
+    } else {
+      run_erased([](void* f, int chunk) { (*static_cast<std::remove_reference_t<Fn>*>(f))(chunk); },
+                 static_cast<void*>(&fn));
+    }
+    parking_.record(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+
+  // The parking rule's state (how often it probed and switched, and where it settled).
+  const WorkerParkingPolicy& parking() const { return parking_; }
 
   // The half-open range [begin, end) of n items that chunk m of `members` works on.
   static std::size_t split(std::size_t n, int members, int m) {
@@ -67,6 +89,8 @@ class ThreadTeam {
   void wait_while_equal(const std::atomic<std::uint32_t>& word, std::uint32_t old);
 
   int size_ = 1;
+  // Read and written by the caller of run() only.
+  WorkerParkingPolicy parking_;
   std::vector<std::thread> workers_;
   Call call_ = nullptr;
   void* context_ = nullptr;

@@ -24,6 +24,8 @@ std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& o
   so.seed = o.seed;
   so.threads = o.threads;
   so.particle_order = o.particle_order;
+  so.worker_parking = o.worker_parking;
+  so.worker_parking_options = o.worker_parking_options;
   auto sim = std::make_unique<Simulation>(so);
 
   Material grain;

@@ -37,6 +37,8 @@ struct PouredSlabPileOptions {
   std::uint64_t seed = 4767;
   int threads = 1;
   ParticleOrder particle_order = ParticleOrder::kInsertion;  // dem/particle_order.hpp
+  WorkerParking worker_parking = WorkerParking::kAdaptive;   // dem/worker_parking.hpp
+  WorkerParkingOptions worker_parking_options;
 };
 
 std::unique_ptr<Simulation> make_poured_slab_pile(const PouredSlabPileOptions& options);
