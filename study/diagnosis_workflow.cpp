@@ -694,7 +694,7 @@ DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
     v.summary = test.statement;
     if (d.detection.mismatch())
       v.summary +=
-          " (The test that takes the targets as independent gives p = " +
+          " (The test that takes the targets as independent gives " +
           calibrate::p_value_text(d.detection.p_value) +
           "; it is not calibrated when targets share runs, docs/detection_calibration.md.)";
     return v;
