@@ -299,7 +299,7 @@ def step_diagnose(args):
         w.writerows(results)
     print_table(results)
     if not args.no_readmes:
-        write_readmes(results)
+        write_readmes(results, args)
 
 
 def step_check(args):
@@ -327,13 +327,13 @@ STUDY_README = """# {title}
 A concealed-effect study of the blind test of `demcal diagnose` (`tests/concealed/README.md`
 says how the recordings were made and how verdicts are scored). The study is the base
 model of `tests/concealed/base_study.toml.in`; its recordings (`recordings.csv` = noise seed
-1, `recordings-seed2.csv`, `recordings-seed3.csv`) were made by the engine with {hidden}.
+1, `recordings-seed2.csv`, `recordings-seed3.csv`) were made by {engine} with {hidden}.
 The truth is kept in `{truth_file}`, which nothing here reads.
 
-    ./build/cli/demcal diagnose studies/{study}/study.toml     # noise seed 1
-    python3 tests/concealed/harness.py diagnose               # every study, every noise seed
+    ./build/cli/demcal diagnose {study_path}     # noise seed 1
+    python3 tests/concealed/harness.py{truth_set} diagnose     # every study, every noise seed
 
-## What the diagnosis said (harness run of {date}; `tests/concealed/results.csv`)
+## What the diagnosis said (harness run of {date}; `{results}`)
 
 | noise seed | outcome | named | verdict | chi²/dof before | after | Bayes factor | DEM runs | wall s |
 |---|---|---|---|---|---|---|---|---|
@@ -348,7 +348,7 @@ extended designs run once for all (cost of the whole test: `tests/concealed/READ
 """
 
 
-def write_readmes(results):
+def write_readmes(results, args):
     hidden = {
         "cohesion": "one effect switched on that the base model leaves out (its name is the folder's)",
         "wall_friction": "one effect switched on that the base model leaves out (its name is the folder's)",
@@ -370,7 +370,18 @@ def write_readmes(results):
             for r in mine)
         summaries = "\n\n".join(f"Noise seed {r['noise_seed']}: {r['summary']}" for r in mine)
         title = t.get("title", TITLES.get(t["study"], t["study"]))
-        text = STUDY_README.format(title=title, hidden=hidden[t["effect"]], study=t["study"],
+        engine = "the engine"
+        hidden_text = hidden[t["effect"]]
+        if t.get("model_form_error", False):
+            engine = "another engine (its `engine.*` lines in the truth file)"
+            if t["effect"] == "none":
+                hidden_text = "no effect switched on: the base model's physics as that engine has it"
+        results_path = pathlib.Path(args.results).resolve()
+        text = STUDY_README.format(title=title, hidden=hidden_text, study=t["study"], engine=engine,
+                                   study_path=study_file(t["study"]).relative_to(ROOT),
+                                   truth_set="" if args.truth_set == "original" else f" --truth-set {args.truth_set}",
+                                   results=results_path.relative_to(ROOT) if results_path.is_relative_to(ROOT)
+                                   else results_path.name,
                                    truth_file=t["file"].relative_to(ROOT),
                                    date=time.strftime("%Y-%m-%d"), rows=rows, summaries=summaries, overall=overall)
         (study_file(t["study"]).parent / "README.md").write_text(text)
@@ -430,7 +441,7 @@ def main():
     if args.step == "table":
         results = list(csv.DictReader(open(args.results)))
         print_table(results)
-        write_readmes(results)
+        write_readmes(results, args)
         return
     for step, fn in (("studies", step_studies), ("truth", step_truth), ("recordings", step_recordings),
                      ("diagnose", step_diagnose)):
