@@ -559,6 +559,15 @@ void write_report(const fs::path& dir, const std::string& study_name,
   r.write(dir / "index.html");
 }
 
+// A fit "sits on" a bound within 1 % of the parameter's range: the rule of both the
+// design's extension and the caveat of a reproduced fit.
+bool on_lower_bound(const calibrate::ParameterBounds& b, double v) {
+  return v - b.lower <= 0.01 * (b.upper - b.lower);
+}
+bool on_upper_bound(const calibrate::ParameterBounds& b, double v) {
+  return b.upper - v <= 0.01 * (b.upper - b.lower);
+}
+
 }  // namespace
 
 BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
@@ -636,7 +645,7 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
     const double lo = bounds[k].lower, up = bounds[k].upper, range = up - lo;
     const double v = theta(static_cast<Eigen::Index>(k));
     const std::string at = bounds[k].name + " = " + format_number(v);
-    if (v - lo <= 0.01 * range) {
+    if (on_lower_bound(bounds[k], v)) {
       if (lo > 0.0) {
         e.bounds[k].lower = std::max(0.0, lo - 0.5 * range);
         moved = true;
@@ -648,7 +657,7 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
                             bounds[k].name + ", taken as physical: not extended");
       }
     }
-    if (up - v <= 0.01 * range) {
+    if (on_upper_bound(bounds[k], v)) {
       e.bounds[k].upper = up + 0.5 * range;
       moved = true;
       e.reasons.push_back("the base fit sits on the design's upper bound (" + at +
@@ -680,6 +689,26 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
       e.design_box[k].upper = std::min(bounds[k].upper, v + 0.25 * range);
     }
   return e;
+}
+
+std::string bound_caveat(const std::vector<calibrate::ParameterBounds>& bounds,
+                         const Eigen::VectorXd& theta) {
+  std::vector<std::string> at;
+  for (std::size_t k = 0; k < bounds.size() && k < static_cast<std::size_t>(theta.size()); ++k) {
+    const double v = theta(static_cast<Eigen::Index>(k));
+    // A lower bound of 0 is physical (no negative friction): nothing lies beyond it.
+    if (on_lower_bound(bounds[k], v) && bounds[k].lower > 0.0)
+      at.push_back(bounds[k].name + " on its lower bound " + format_number(bounds[k].lower));
+    else if (on_upper_bound(bounds[k], v))
+      at.push_back(bounds[k].name + " on its upper bound " + format_number(bounds[k].upper));
+  }
+  if (at.empty()) return {};
+  std::string list = at.front();
+  for (std::size_t i = 1; i < at.size(); ++i) list += " and " + at[i];
+  return " But the fit sits on the edge of the design (" + list +
+         "): the recordings may be matched best beyond it, where no run was made, and a value "
+         "on a bound is not a calibrated value. Widen that range of the design ([design] "
+         "parameters) and diagnose again.";
 }
 
 DiagnosisVerdict decide_diagnosis(const calibrate::MismatchDetection& test,
@@ -1045,7 +1074,9 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
     judgement.decision = calibrate::decide_explanation(detection, result.base_evidence, evidences,
                                                        judgement.discrepancy, explanation);
   }
-  const DiagnosisVerdict verdict = decide_diagnosis(detection, result, judgement);
+  DiagnosisVerdict verdict = decide_diagnosis(detection, result, judgement);
+  if (verdict.outcome == "reproduced" && !test.base.minima.empty())
+    verdict.summary += bound_caveat(bounds, test.base.minima.front().theta);
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double cpu = cpu_seconds() - cpu_started;

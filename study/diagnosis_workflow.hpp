@@ -124,6 +124,14 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
                                  const std::vector<double>& single_run_scatter,
                                  const std::vector<bool>& fitted, int points);
 
+// The sentence added to a "reproduced" verdict whose base fit `theta` sits on a bound of
+// the design (within 1 % of its range, the rule of design_extension; a lower bound of 0
+// is physical and not named): the model may match the recordings only beyond the design,
+// so the value is not a calibrated one and the user is told to widen the range. Empty
+// when no parameter is on such a bound.
+std::string bound_caveat(const std::vector<calibrate::ParameterBounds>& bounds,
+                         const Eigen::VectorXd& theta);
+
 // What the diagnosis concludes, by the rule of docs/model_discrepancy.md: no mismatch by
 // the test above -> "reproduced" (or "untestable"); a mismatch -> a physics is named
 // ("explained") only when its evidence beats a generic model discrepancy and the base model
