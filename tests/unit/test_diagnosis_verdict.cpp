@@ -293,8 +293,8 @@ TEST(DiagnosisDesignExtension, AFitOnABoundOrUnsureSurrogatesExtendTheDesign) {
 }
 
 // A reproduced fit on the edge of the design is no calibrated value: the verdict says so
-// and what to do (cross-engine run 1, tests/concealed/lammps/README.md: 6 of 12 effect
-// cases were "reproduced" with mu_r on the design's upper bound, and said nothing of it).
+// and what to do (cross-engine run 1, tests/concealed/lammps/README.md: 5 of 12 effect
+// cases were "reproduced" with the fit on a bound of the design, and said nothing of it).
 TEST(DiagnosisVerdict, AReproducedFitOnADesignBoundIsCaveated) {
   const std::vector<calibrate::ParameterBounds> b = {{"mu_r", 0.05, 0.4}, {"mu_s", 0.0, 0.8}};
   EXPECT_EQ(study::bound_caveat(b, Eigen::Vector2d(0.2, 0.5)), "");
