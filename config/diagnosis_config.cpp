@@ -21,6 +21,7 @@ std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
   c.probe_replicates = static_cast<int>(t.integer_or("probe_replicates", 2, 1, 100));
   c.leading = static_cast<int>(t.integer_or("leading", 2, 1, 10));
   c.extended_points = static_cast<int>(t.integer_or("extended_points", 16, 4, 10000));
+  c.design_extensions = static_cast<int>(t.integer_or("design_extensions", 2, 0, 10));
   c.probe_grid = static_cast<int>(t.integer_or("probe_grid", 200, 2, 100000));
   // One evidence margin decides both whether a candidate beats the base model and whether it
   // beats the generic discrepancy; the Bayes-factor key it replaced set only the first.

@@ -12,6 +12,10 @@
 //                                     #   switched on (its sensitivity), 1..100
 //   leading = 2                       # candidates that get an extended design, 1..10
 //   extended_points = 16              # Latin hypercube points in (parameters, candidate), 4..10000
+//   design_extensions = 2             # rounds the base design may grow by before anything is
+//                                     #   said, reproduced or not, 0..10 (0: never): each round
+//                                     #   runs when the base fit sits on a design bound or the
+//                                     #   surrogates there are less sure than the DEM scatters
 //   required_log_bayes_factor = 3.0   # ln B a candidate must reach over the base model AND
 //                                     #   over a generic model discrepancy to be named, [0, 50]
 //                                     #   (3 = a Bayes factor of 20, "strong"); below it the
@@ -45,6 +49,7 @@ struct DiagnosisConfig {
   int probe_replicates = 2;
   int leading = 2;
   int extended_points = 16;
+  int design_extensions = 2;
   double required_log_bayes_factor = 3.0;
   int probe_grid = 200;
   std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides

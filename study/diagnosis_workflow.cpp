@@ -679,6 +679,7 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
     }
   }
   e.needed = moved || unsure;
+  e.moved = moved;
   e.design_box = e.bounds;
   if (unsure && !moved)
     // Densify around the fit: a quarter of each range either side, inside the box.
@@ -847,68 +848,81 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
                                    dc.alpha, opt.calibration);
   std::vector<DerivedParameter> base_params = base_design_parameters(*study.design);
   std::size_t executed = 0;
-  DesignExtension extension;
-  if (test.correlated.detection.mismatch()) {
-    // The design follows the recordings: a fit on a bound, or surrogates less sure than the
-    // DEM there, is no ground to name a physics on. Extend, refit the surrogates on the union
-    // of both designs' runs and test again, before any candidate.
-    extension = design_extension(bounds, test.base.minima.at(0).theta, test.targets,
-                                 test.single_run_scatter, fitted_mask, dc.extended_points);
-    if (extension.needed) {
-      for (const auto& r : extension.reasons) observer.on_message(r);
-      observer.on_message("extending the base design before any candidate ...");
-      DerivedDesignTable design;
-      design.kind = "latin_hypercube";
-      design.points = extension.points;
-      design.replicates = std::max(2, study.design->replicates);  // the scatter needs pairs
-      design.seed = 1;
-      std::vector<DerivedParameter> box = base_params;
-      for (std::size_t k = 0; k < box.size(); ++k) {
-        box[k].lower = extension.design_box[k].lower;
-        box[k].upper = extension.design_box[k].upper;
-      }
-      design.parameters = box;
-      const StudySource source = StudySource::read(o.study, o.overrides);
-      const DerivedDesignOutcome d = run_derived(
-          dir / "diagnosis" / "base-extended" / "study.toml",
-          base_extension_study(source, study.name + "--base-extended", std::move(design)), steps);
-      executed += d.executed;
-      if (!d.complete) {
-        outcome.outcome = "incomplete";
-        return outcome;
-      }
-      base_table = merged_tables(base_table, read_doe_csv(d.table_csv));
-      bounds = extension.bounds;
-      for (std::size_t k = 0; k < base_params.size(); ++k) {
-        base_params[k].lower = bounds[k].lower;
-        base_params[k].upper = bounds[k].upper;
-      }
-      const surrogate::SurrogateSpec spec =
-          study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
-      std::vector<calibrate::Target> refitted = pooled_targets;
-      for (std::size_t i = 0; i < refitted.size(); ++i) {
-        auto& t = refitted[i];
-        surrogate::FittedSurrogate f;
-        try {
-          f = surrogate::fit_surrogate(base_data(base_table, t.setup, t.observable, bounds), spec);
-        } catch (const std::invalid_argument& e) {
-          throw ConfigError(d.table_csv.string() + ": " + t.setup + " " + t.observable + ": " +
-                            e.what());
-        }
-        const fs::path file = dir / "diagnosis" / "base-extended" / "surrogates" /
-                              (t.setup + "." + t.observable + ".json");
-        fs::create_directories(file.parent_path());
-        dem::write_file_atomically(file, f.to_json().dump(1) + "\n");
-        t.model = f.model;
-        t.sigma_dem = std::isfinite(f.scatter.sd)
-                          ? f.scatter.sd / std::sqrt(static_cast<double>(repeats[i]))
-                          : 0.0;
-        replicates[i] = replicate_points(base_table, t.setup, t.observable, bounds.size());
-      }
-      test = test_base_fit(bounds, refitted, replicates, repeats, fitted_mask, dc.alpha,
-                           opt.calibration);
-      observer.on_message("with the extended design: " + test.correlated.detection.statement);
+  // The design follows the recordings, whatever the test says: a fit on a bound, or
+  // surrogates less sure than the DEM there, is no ground to say anything on, neither
+  // "reproduced" (the best match may lie beyond the box, where no run was made) nor a
+  // physics. Extend, refit the surrogates on the union of the designs' runs and test again,
+  // before any candidate; up to dc.design_extensions rounds, since a fit that was on a bound
+  // may land on the moved one.
+  std::vector<DesignExtension> extensions;
+  for (int round = 1; round <= dc.design_extensions; ++round) {
+    DesignExtension extension =
+        design_extension(bounds, test.base.minima.at(0).theta, test.targets,
+                         test.single_run_scatter, fitted_mask, dc.extended_points);
+    if (!extension.needed) break;
+    // A densification only (surrogates unsure, no bound moved) is done once: a second one
+    // in the same box would chase the DEM's own scatter.
+    const bool densified_before = std::any_of(extensions.begin(), extensions.end(),
+                                              [](const DesignExtension& e) { return !e.moved; });
+    if (!extension.moved && densified_before) break;
+    const std::string label =
+        round == 1 ? std::string("base-extended") : "base-extended-" + std::to_string(round);
+    for (const auto& r : extension.reasons) observer.on_message(r);
+    observer.on_message("extending the base design (round " + std::to_string(round) +
+                        ") before anything is said ...");
+    DerivedDesignTable design;
+    design.kind = "latin_hypercube";
+    design.points = extension.points;
+    design.replicates = std::max(2, study.design->replicates);  // the scatter needs pairs
+    design.seed = static_cast<std::uint64_t>(round);            // other points each round
+    std::vector<DerivedParameter> box = base_params;
+    for (std::size_t k = 0; k < box.size(); ++k) {
+      box[k].lower = extension.design_box[k].lower;
+      box[k].upper = extension.design_box[k].upper;
     }
+    design.parameters = box;
+    const StudySource source = StudySource::read(o.study, o.overrides);
+    const DerivedDesignOutcome d = run_derived(
+        dir / "diagnosis" / label / "study.toml",
+        base_extension_study(source, study.name + "--" + label, std::move(design)), steps);
+    executed += d.executed;
+    if (!d.complete) {
+      outcome.outcome = "incomplete";
+      return outcome;
+    }
+    base_table = merged_tables(base_table, read_doe_csv(d.table_csv));
+    bounds = extension.bounds;
+    for (std::size_t k = 0; k < base_params.size(); ++k) {
+      base_params[k].lower = bounds[k].lower;
+      base_params[k].upper = bounds[k].upper;
+    }
+    const surrogate::SurrogateSpec spec =
+        study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
+    std::vector<calibrate::Target> refitted = pooled_targets;
+    for (std::size_t i = 0; i < refitted.size(); ++i) {
+      auto& t = refitted[i];
+      surrogate::FittedSurrogate f;
+      try {
+        f = surrogate::fit_surrogate(base_data(base_table, t.setup, t.observable, bounds), spec);
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(d.table_csv.string() + ": " + t.setup + " " + t.observable + ": " +
+                          e.what());
+      }
+      const fs::path file =
+          dir / "diagnosis" / label / "surrogates" / (t.setup + "." + t.observable + ".json");
+      fs::create_directories(file.parent_path());
+      dem::write_file_atomically(file, f.to_json().dump(1) + "\n");
+      t.model = f.model;
+      t.sigma_dem = std::isfinite(f.scatter.sd)
+                        ? f.scatter.sd / std::sqrt(static_cast<double>(repeats[i]))
+                        : 0.0;
+      replicates[i] = replicate_points(base_table, t.setup, t.observable, bounds.size());
+    }
+    test = test_base_fit(bounds, refitted, replicates, repeats, fitted_mask, dc.alpha,
+                         opt.calibration);
+    observer.on_message("with the extended design: " + test.correlated.detection.statement);
+    extension.label = label;
+    extensions.push_back(std::move(extension));
   }
   const std::vector<calibrate::Target>& targets = test.targets;
   const calibrate::CalibrationResult& base = test.base;
@@ -1102,14 +1116,28 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   j["detection"]["method"] = "correlated, local scatter, predictive p";
   j["discrepancy_judgement"] = judgement.to_json();
   j["raw_recordings"] = raw_json;
-  j["design_extension"] = {{"needed", extension.needed},
-                           {"reasons", extension.reasons},
-                           {"points", extension.needed ? extension.points : 0}};
-  if (extension.needed) {
-    nlohmann::json box = nlohmann::json::array();
-    for (const auto& b : extension.bounds)
-      box.push_back({{"name", b.name}, {"lower", b.lower}, {"upper", b.upper}});
-    j["design_extension"]["bounds"] = box;
+  {
+    // The first keys summarise every round (the final box); "rounds" has each.
+    nlohmann::json rounds = nlohmann::json::array();
+    std::vector<std::string> reasons;
+    int points = 0;
+    for (const auto& e : extensions) {
+      nlohmann::json box = nlohmann::json::array();
+      for (const auto& b : e.bounds)
+        box.push_back({{"name", b.name}, {"lower", b.lower}, {"upper", b.upper}});
+      rounds.push_back({{"study", e.label},
+                        {"reasons", e.reasons},
+                        {"points", e.points},
+                        {"centre", e.centre},
+                        {"bounds", box}});
+      reasons.insert(reasons.end(), e.reasons.begin(), e.reasons.end());
+      points += e.points;
+    }
+    j["design_extension"] = {{"needed", !extensions.empty()},
+                             {"reasons", reasons},
+                             {"points", points},
+                             {"rounds", rounds}};
+    if (!extensions.empty()) j["design_extension"]["bounds"] = rounds.back()["bounds"];
   }
   j["dem_runs_executed"] = executed;
   j["dem_runs_base_design"] = base_design_runs;
@@ -1118,16 +1146,17 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   outcome.json = report_dir / "diagnosis.json";
   dem::write_file_atomically(outcome.json, j.dump(1) + "\n");
   std::vector<std::string> design_lines;
-  if (extension.needed) {
-    design_lines = extension.reasons;
+  for (const auto& e : extensions) {
+    design_lines.insert(design_lines.end(), e.reasons.begin(), e.reasons.end());
     std::string box;
-    for (const auto& b : extension.bounds)
+    for (const auto& b : e.bounds)
       box += (box.empty() ? "" : ", ") + b.name + " in [" + format_number(b.lower) + ", " +
              format_number(b.upper) + "]";
-    design_lines.push_back(std::to_string(extension.points) + " Latin hypercube points were run (" +
-                           (dir / "diagnosis" / "base-extended" / "study.toml").string() +
-                           "); the surrogates were refitted on both designs' runs over " + box +
-                           " and the test above is on them.");
+    design_lines.push_back(std::to_string(e.points) + " Latin hypercube points were run (" +
+                           (dir / "diagnosis" / e.label / "study.toml").string() +
+                           "); the surrogates were refitted on the designs' runs over " + box +
+                           (&e == &extensions.back() ? " and the test above is on them."
+                                                     : ", and the fit was asked again."));
   }
   write_report(report_dir, study.name, result, test, judgement, verdict, raw_lines, design_lines,
                cost, outcome.json);
@@ -1136,7 +1165,7 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   outcome.summary = verdict.summary;
   outcome.dem_runs_executed = executed;
   outcome.cpu_time_s = cpu;
-  outcome.design_extended = extension.needed;
+  outcome.design_extended = !extensions.empty();
   return outcome;
 }
 

@@ -8,12 +8,13 @@
 // What runs, in order, each step resumable through the run store:
 //   1. the study's own pipeline (`demcal study`): design, runs, surrogates;
 //   2. the base calibration on every recording not held out, and the
-//      calibrated mismatch test (test_base_fit below). When the base model fits,
-//      it stops here and says so: no DEM run is spent on candidates. With a
-//      mismatch, when the fit sits on a design bound or the surrogates there are
-//      less sure than the DEM's scatter (design_extension), the base design is
-//      extended first (<output>/<study>/diagnosis/base-extended/study.toml), the
-//      surrogates refitted on both designs' runs and the test repeated;
+//      calibrated mismatch test (test_base_fit below). Whenever the fit sits on a
+//      design bound or the surrogates there are less sure than the DEM's scatter
+//      (design_extension), with a mismatch or without, the base design is extended
+//      first (<output>/<study>/diagnosis/base-extended[-N]/study.toml, up to
+//      [diagnosis] design_extensions rounds), the surrogates refitted on the
+//      designs' runs and the test repeated. When the base model then fits, it
+//      stops here and says so: no DEM run is spent on candidates;
 //   3. per candidate, a probe: the DEM at the base fit with the candidate
 //      switched on at its probe value (probe_replicates seeds per setup), so
 //      that the sensitivity of every recording to it is measured, not assumed.
@@ -110,11 +111,13 @@ BaseFitTest test_base_fit(const std::vector<calibrate::ParameterBounds>& bounds,
 // only the surrogates are unsure, the same box, densified around the fit.
 struct DesignExtension {
   bool needed = false;
-  std::vector<std::string> reasons;               // in words, for the report
+  bool moved = false;                // a bound of the box moved (else the extension only densifies)
+  std::vector<std::string> reasons;  // in words, for the report
   std::vector<calibrate::ParameterBounds> bounds;  // the base and extension's union: the new box
   std::vector<calibrate::ParameterBounds> design_box;  // where the extension's points go
-  std::vector<double> centre;                     // the fit the extension was asked at
-  int points = 0;                                 // of the Latin hypercube
+  std::vector<double> centre;                          // the fit the extension was asked at
+  int points = 0;                                      // of the Latin hypercube
+  std::string label;  // the derived study it ran as (diagnosis/<label>/), set by the workflow
 };
 
 // `single_run_scatter` per target (NaN: none known); `fitted` marks the targets not held out.

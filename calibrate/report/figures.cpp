@@ -213,6 +213,27 @@ RenderedFigure residual_figure(const fs::path& directory, const std::string& nam
   return out;
 }
 
+namespace {
+
+// The y range of a bar chart: from 0 up when every bar is positive (indices, shares); both
+// ways, with the zero line drawn, when one is negative (residuals); fixed when no bar has a
+// value at all, since gnuplot refuses to autoscale a plot without a single point ("all
+// points y value undefined") and the report would be lost for want of a figure.
+std::string bar_y_range(const std::vector<BarSeries>& series) {
+  bool any = false, negative = false;
+  for (const auto& b : series)
+    for (std::size_t i = 0; i < b.values.size(); ++i) {
+      if (!std::isfinite(b.values[i])) continue;
+      any = true;
+      const double e = i < b.errors.size() && std::isfinite(b.errors[i]) ? b.errors[i] : 0.0;
+      negative = negative || b.values[i] - e < 0.0;
+    }
+  if (!any) return "set yrange [-1:1]\n";
+  return negative ? "set yrange [*:*]\nset xzeroaxis\n" : "set yrange [0:*]\n";
+}
+
+}  // namespace
+
 RenderedFigure bar_figure(const fs::path& directory, const std::string& name,
                           const std::vector<std::string>& labels, const std::vector<BarSeries>& series,
                           const std::string& title, const std::string& y_label) {
@@ -243,7 +264,7 @@ RenderedFigure bar_figure(const fs::path& directory, const std::string& name,
   const std::string layout = frame(520, 400, static_cast<int>(series.size()), false, total_height);
   std::ostringstream s;
   s << svg_preamble(name, 520, total_height) << layout << "set datafile separator whitespace\n"
-    << "set title " << q(title) << "\nset ylabel " << q(y_label) << "\nset yrange [0:*]\n"
+    << "set title " << q(title) << "\nset ylabel " << q(y_label) << "\n" << bar_y_range(series)
     << "set xrange [-0.6:" << static_cast<double>(labels.size()) - 0.4 << "]\nset xtics (";
   for (std::size_t i = 0; i < labels.size(); ++i) s << (i ? ", " : "") << q(labels[i]) << " " << i;
   s << ")\nset style fill solid 0.8 border -1\nset boxwidth " << w << "\nplot ";

@@ -72,7 +72,10 @@ def set_truth_set(name):
     `fresh`: truths made after the method was frozen, never used to tune anything
     (truth-fresh/, their studies under fresh/studies/; tests/concealed/README.md).
     `lammps`: the truths made in LAMMPS through demcal's deck writer, the model still
-    demcal's (lammps/truth/, their studies under lammps/studies/; lammps/README.md)."""
+    demcal's (lammps/truth/, their studies under lammps/studies/; lammps/README.md).
+    `lammps-fresh`: LAMMPS truths made after the cross-engine method was frozen, with
+    frictions and strengths of their own (lammps/truth-fresh/, their studies under
+    lammps/fresh/studies/; lammps/README.md "Fresh truths")."""
     global TRUTH, STUDIES
     if name == "fresh":
         TRUTH = HERE / "truth-fresh"
@@ -80,6 +83,9 @@ def set_truth_set(name):
     elif name == "lammps":
         TRUTH = HERE / "lammps" / "truth"
         STUDIES = HERE / "lammps" / "studies"
+    elif name == "lammps-fresh":
+        TRUTH = HERE / "lammps" / "truth-fresh"
+        STUDIES = HERE / "lammps" / "fresh" / "studies"
 
 
 def series_observables(rec):
@@ -424,9 +430,10 @@ def main():
     p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
     p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
     p.add_argument("--min-identified", type=float, default=0.8)
-    p.add_argument("--truth-set", choices=["original", "fresh", "lammps"], default="original",
+    p.add_argument("--truth-set", choices=["original", "fresh", "lammps", "lammps-fresh"], default="original",
                    help="original: truth/ (the development set); fresh: truth-fresh/ (made after the method was "
-                        "frozen); lammps: lammps/truth/ (recordings made in LAMMPS, the model demcal's)")
+                        "frozen); lammps: lammps/truth/ (recordings made in LAMMPS, the model demcal's); lammps-fresh: "
+                        "lammps/truth-fresh/ (LAMMPS truths made after the cross-engine method was frozen)")
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
     set_out(args.out)

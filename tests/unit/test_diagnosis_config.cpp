@@ -49,6 +49,9 @@ TEST(DiagnosisConfig, DefaultsAndOverridesAreRead) {
   EXPECT_DOUBLE_EQ(s.diagnosis->alpha, 0.05);
   EXPECT_EQ(s.diagnosis->leading, 1);
   EXPECT_EQ(s.diagnosis->probe_grid, 200);
+  EXPECT_EQ(s.diagnosis->design_extensions, 2);
+  EXPECT_EQ(build(tiny_study() + "\n[diagnosis]\ndesign_extensions = 0\n").diagnosis->design_extensions,
+            0);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").upper, 0.01);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").probe, 0.004);
   // [diagnosis] does not enter a run's inputs (so not its hash).
@@ -69,6 +72,10 @@ TEST(DiagnosisConfig, BadInputNamesTheKey) {
   EXPECT_NE(m.find("diagnosis.cohesion.upper"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis]\nprobe_grid = 1\n");
   EXPECT_NE(m.find("diagnosis.probe_grid"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\ndesign_extensions = 11\n");
+  EXPECT_NE(m.find("diagnosis.design_extensions"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\ndesign_extensions = 1.5\n");
+  EXPECT_NE(m.find("diagnosis.design_extensions"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis]\ncolour = 1\n");
   EXPECT_NE(m.find("diagnosis.colour: unknown key"), std::string::npos) << m;
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace demcal::calibrate {
@@ -84,6 +85,26 @@ TEST(ReportFigures, ParityResidualBarAndLineFiguresRender) {
             std::string::npos);
   EXPECT_NE(line_figure(dir, "lines", {{"a", {0, 1}, {0, 1}}}, "t", "x", "y").svg.find("<svg"), std::string::npos);
   EXPECT_THROW(parity_figure(dir, "bad", {1, 2}, {1}, {}, "t", ""), std::invalid_argument);
+  fs::remove_all(dir);
+}
+
+// Standardized residuals are as often negative as positive: a bar chart of them shows the
+// bars below zero (it drew from 0 up and clipped them), and one whose every bar is
+// negative, or has no value at all, still renders (gnuplot refused it, "all points y value
+// undefined", and the diagnosis of a reproduced study failed on its report).
+TEST(ReportFigures, BarFiguresShowNegativeBarsAndSurviveEmptyOnes) {
+  const fs::path dir = fresh_dir("bars");
+  const auto below = bar_figure(dir, "below", {"a", "b"}, {{"base", {-1.5, -0.2}, {}}}, "t", "r");
+  EXPECT_NE(below.svg.find("<svg"), std::string::npos);
+  const std::string script = slurp(dir / "below.gp");
+  EXPECT_EQ(script.find("[0:*]"), std::string::npos) << script;
+  EXPECT_NE(script.find("xzeroaxis"), std::string::npos) << script;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(bar_figure(dir, "none", {"a", "b"}, {{"base", {nan, nan}, {}}}, "t", "r").svg.find("<svg"),
+            std::string::npos);
+  // Positive bars (indices) still start at 0.
+  bar_figure(dir, "above", {"a"}, {{"first", {0.4}, {0.1}}}, "t", "i");
+  EXPECT_NE(slurp(dir / "above.gp").find("set yrange [0:*]"), std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -34,6 +34,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace demcal {
@@ -234,6 +235,83 @@ shear_modulus_pa = 1.0e7
   EXPECT_EQ(json.find("container_thick"), std::string::npos)
       << "the unrecorded setup appears in diagnosis.json";
   fs::remove_all(dir);
+}
+
+// Recordings the base model reproduces only beyond its design (issue 19): made by the
+// evaluator's formula at mu_r = 0.2, mu_s = 0.9 with nothing concealed, where the design
+// stops at mu_s = 0.8. Inside the box the best fit sits on mu_s = 0.8 and the test cannot
+// tell it from a match (the bulk density's sigma is wide), so before this rule the diagnosis
+// said "reproduced" at a value on the edge of the design. With `design_extensions` rounds
+// (default 2) it must grow the design first, whatever the test says, and calibrate inside
+// the new box; with 0 rounds it keeps the old behaviour, and its verdict says the fit is on
+// the bound.
+struct BoundCase {
+  cli::DiagnoseOutcome diagnosis;
+  nlohmann::json json;
+  std::string log;
+};
+
+BoundCase diagnose_beyond_the_design(const std::string& name, const std::string& diagnosis_keys) {
+  const fs::path dir = testing::fresh_dir("workflow", name);
+  std::string study = testing::slurp(kStudyDir / "study.toml");
+  const auto at = study.find("[diagnosis]\n");
+  EXPECT_NE(at, std::string::npos);
+  study.insert(at + std::string("[diagnosis]\n").size(), diagnosis_keys);
+  testing::spit(dir / "study.toml", study);
+  // The formula of study/analytic_evaluator.hpp at (0.2, 0.9), mu_w 0.5, spread 0.25.
+  std::string recordings = "setup,observable,value,sigma,unit,repeats\n";
+  for (const auto& [setup, w] : {std::pair<std::string, double>{"container_walls", 1.0 / 3.0},
+                                 std::pair<std::string, double>{"container_periodic", 0.0}}) {
+    const double aor = 15.0 + 25.0 * std::tanh(2.5 * 0.2) + 12.0 * 0.9 + 20.0 * w * 0.5;
+    const double bulk =
+        2650.0 * (0.62 - 0.06 * 0.9 - 0.04 * std::tanh(3.0 * 0.2) - 0.05 * w + 0.03 * 0.25);
+    recordings += setup + ",angle_of_repose_deg," + std::to_string(aor) + ",0.5,deg,3\n";
+    recordings += setup + ",bulk_density_kg_m3," + std::to_string(bulk) + ",20.0,kg/m3,3\n";
+  }
+  testing::spit(dir / "recordings.csv", recordings);
+  const study::AnalyticEvaluator evaluator;
+  std::ostringstream console, log;
+  cli::DiagnoseOptions d;
+  d.study = dir / "study.toml";
+  d.output_dir = dir / "out";
+  d.jobs = 2;
+  d.quiet = true;
+  d.evaluator = &evaluator;
+  BoundCase c;
+  EXPECT_NO_THROW(c.diagnosis = cli::diagnose(d, console, log)) << log.str();
+  c.log = log.str();
+  if (fs::exists(c.diagnosis.json)) c.json = read_json(c.diagnosis.json);
+  fs::remove_all(dir);
+  return c;
+}
+
+TEST(WorkflowGolden, AFitOnADesignBoundGrowsTheDesignBeforeAnyVerdict) {
+  const BoundCase fixed = diagnose_beyond_the_design("bound-fixed", "design_extensions = 0\n");
+  ASSERT_EQ(fixed.diagnosis.outcome, "reproduced") << fixed.log;
+  EXPECT_FALSE(fixed.json.at("design_extension").at("needed").get<bool>());
+  EXPECT_NE(fixed.diagnosis.summary.find("mu_s on its upper bound 0.8"), std::string::npos)
+      << fixed.diagnosis.summary;
+
+  const BoundCase grown = diagnose_beyond_the_design("bound-grown", "");
+  ASSERT_NE(grown.diagnosis.outcome, "incomplete") << grown.log;
+  const nlohmann::json& e = grown.json.at("design_extension");
+  ASSERT_TRUE(e.at("needed").get<bool>()) << grown.log;
+  ASSERT_GE(e.at("rounds").size(), 1u);
+  EXPECT_NE(e.at("rounds")[0].at("reasons").dump().find("upper bound"), std::string::npos)
+      << e.dump(1);
+  // The box now reaches past the truth, the calibrated mu_s is off the old bound and inside
+  // the new box, near the truth, and nothing is said of a bound.
+  double upper = 0.0;
+  for (const auto& b : e.at("bounds"))
+    if (b.at("name") == "mu_s") upper = b.at("upper").get<double>();
+  EXPECT_GT(upper, 0.9);
+  EXPECT_EQ(grown.diagnosis.summary.find("on its upper bound"), std::string::npos)
+      << grown.diagnosis.summary;
+  const nlohmann::json& theta = grown.json.at("base").at("minima")[0].at("theta");
+  const double mu_s = theta[1].get<double>();
+  EXPECT_GT(mu_s, 0.82);
+  EXPECT_LT(mu_s, upper - 0.01 * (upper - 0.2));
+  EXPECT_NEAR(mu_s, 0.9, 0.06);
 }
 
 // The evaluator's observables are its documented formulas, and its noise is the
