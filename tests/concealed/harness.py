@@ -247,6 +247,12 @@ def step_recordings(args):
             print("wrote", f.relative_to(ROOT))
 
 
+def base_theta(d):
+    """The base model's calibrated point in a diagnosis.json, or [] when it has none."""
+    minima = (d.get("base") or {}).get("minima") or []
+    return minima[0].get("theta", []) if minima else []
+
+
 def step_diagnose(args):
     results = []
     for t in truths():
@@ -294,6 +300,10 @@ def step_diagnose(args):
                 if chosen_fit and hidden_value(t) is not None and chosen == truth
                 and chosen_fit.get("phi_lower") is not None and chosen_fit.get("phi_upper") is not None else None,
                 "dem_runs_executed": d.get("dem_runs_executed"), "wall_time_s": round(elapsed, 1),
+                "cpu_time_s": round(d["cpu_time_s"], 1) if d.get("cpu_time_s") is not None else None,
+                # How often the base design grew before the verdict, and where the base fit ended.
+                "design_rounds": len(d.get("design_extension", {}).get("rounds", [])),
+                "base_fit": " ".join(f"{v:.3g}" for v in base_theta(d)),
                 "summary": d["summary"],
             }
             results.append(row)
