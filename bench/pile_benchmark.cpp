@@ -36,9 +36,7 @@
 #include <string>
 #include <vector>
 
-#ifndef DEMCAL_VERSION
-#define DEMCAL_VERSION "unknown"
-#endif
+#include "demcal_version.hpp"  // DEMCAL_VERSION, written at build time (cmake/version.cmake)
 
 namespace {
 

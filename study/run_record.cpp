@@ -2,6 +2,7 @@
 
 #include "dem/output/atomic_file.hpp"
 #include "dem/simulation.hpp"
+#include "demcal_version.hpp"  // DEMCAL_VERSION, written at build time (cmake/version.cmake)
 
 #include <chrono>
 #include <cmath>
@@ -33,13 +34,7 @@ std::string utc_now() {
 
 }  // namespace
 
-std::string engine_version() {
-#ifdef DEMCAL_VERSION
-  return DEMCAL_VERSION;
-#else
-  return "unknown";
-#endif
-}
+std::string engine_version() { return DEMCAL_VERSION; }
 
 nlohmann::json toml_to_json(const toml::node& node) {
   if (const toml::table* t = node.as_table()) {
