@@ -854,6 +854,10 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   // physics. Extend, refit the surrogates on the union of the designs' runs and test again,
   // before any candidate; up to dc.design_extensions rounds, since a fit that was on a bound
   // may land on the moved one.
+  // Read once: every derived study (extensions, probes, candidates' designs) is written from it.
+  const StudySource source = StudySource::read(o.study, o.overrides);
+  const surrogate::SurrogateSpec spec =
+      study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
   std::vector<DesignExtension> extensions;
   for (int round = 1; round <= dc.design_extensions; ++round) {
     DesignExtension extension =
@@ -881,7 +885,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       box[k].upper = extension.design_box[k].upper;
     }
     design.parameters = box;
-    const StudySource source = StudySource::read(o.study, o.overrides);
     const DerivedDesignOutcome d = run_derived(
         dir / "diagnosis" / label / "study.toml",
         base_extension_study(source, study.name + "--" + label, std::move(design)), steps);
@@ -896,8 +899,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
       base_params[k].lower = bounds[k].lower;
       base_params[k].upper = bounds[k].upper;
     }
-    const surrogate::SurrogateSpec spec =
-        study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
     std::vector<calibrate::Target> refitted = pooled_targets;
     for (std::size_t i = 0; i < refitted.size(); ++i) {
       auto& t = refitted[i];
@@ -932,7 +933,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   std::vector<calibrate::CandidateModule> modules;
   std::vector<std::string> cost;
   if (detection.mismatch()) {
-    const StudySource source = StudySource::read(o.study, o.overrides);
     // The base fit, snapped to 1/probe_grid of each range so that a diagnosis
     // of slightly different recordings reuses the probe runs.
     const calibrate::CalibrationProblem problem(bounds, targets);
@@ -1050,8 +1050,6 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
         return outcome;
       }
       const DoeCsv ext = read_doe_csv(d.table_csv);
-      const surrogate::SurrogateSpec spec =
-          study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
       for (const auto& t : targets) {
         auto data = extended_data(base_table, ext, t.setup, t.observable, bounds, c);
         surrogate::FittedSurrogate f;
