@@ -32,6 +32,43 @@ std::size_t count_for_mass(double mass_kg, double density, const dem::SizeDistri
   return static_cast<std::size_t>(std::llround(mass_kg / mean_mass));
 }
 
+// The sites of a simple cubic lattice of spacing a (at (i + 1/2) a, as LAMMPS's
+// `lattice sc a origin 0.5 0.5 0.5` places them) within radius_m of the vertical
+// axis, layer on layer from the first lattice line at or above z_from_m, enough
+// layers for `count` grains. sites_per_layer is 0 when none fits.
+LatticeFill cylindrical_lattice(double radius_m, double spacing_m, double z_from_m,
+                                std::size_t count, double d_max) {
+  LatticeFill f;
+  f.spacing_m = spacing_m;
+  const double a = spacing_m;
+  const double z0 = std::ceil(z_from_m / a) * a;
+  const double x0 = -std::ceil(radius_m / a) * a;
+  f.cylinder_radius_m = radius_m;
+  for (long i = static_cast<long>(std::llround(x0 / a)); (i + 0.5) * a <= -x0; ++i)
+    for (long j = static_cast<long>(std::llround(x0 / a)); (j + 0.5) * a <= -x0; ++j)
+      if (std::hypot((i + 0.5) * a, (j + 0.5) * a) <= radius_m) ++f.sites_per_layer;
+  f.count = count;
+  f.layers = f.sites_per_layer == 0 ? 0 : (count + f.sites_per_layer - 1) / f.sites_per_layer;
+  f.region = {{x0, x0, z0}, {-x0, -x0, z0 + static_cast<double>(f.layers) * a}};
+  // Neighbours approach by at most 0.8 of the gap: no overlap, and no crystal.
+  f.jitter_m = 0.4 * (a - d_max);
+  return f;
+}
+
+// What every layout records of the material and the run, as demcal would run them.
+void take_material_and_protocol(ApparatusLayout& l, const dem::GranularMaterial& material,
+                                const dem::ModelReduction& reduction,
+                                const dem::SizeDistribution& sizes,
+                                const dem::RunProtocol& protocol) {
+  l.size_classes = size_classes(sizes);
+  l.density_kg_m3 = material.particle.density_kg_m3;
+  l.time_step_s = demcal_time_step_s(material, reduction, sizes, protocol);
+  l.seed = protocol.seed;
+  l.protocol = protocol;
+  l.material = material;
+  l.reduction = reduction;
+}
+
 nlohmann::json vec(const dem::Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 nlohmann::json box_json(const BoxRegion& b) {
   return {{"lower_m", vec(b.lower_m)}, {"upper_m", vec(b.upper_m)}};
@@ -69,6 +106,8 @@ nlohmann::json ApparatusLayout::to_json() const {
   nlohmann::json j;
   j["apparatus"] = apparatus;
   j["variant"] = variant;
+  // Absent when there are none: the records of the older layouts stay as they were.
+  if (!approximations.empty()) j["approximations"] = approximations;
   j["box"] = box_json(box);
   j["periodic"] = periodic;
   j["planes"] = nlohmann::json::array();
@@ -231,13 +270,7 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
                      o.inlet_speed_m_s,
                      pour_defaults.batch_volume_fraction};
   l.particles = count_for_mass(o.fill_mass_kg, material.particle.density_kg_m3, *sizes);
-  l.size_classes = size_classes(*sizes);
-  l.density_kg_m3 = material.particle.density_kg_m3;
-  l.time_step_s = demcal_time_step_s(material, o.reduction, *sizes, protocol);
-  l.seed = protocol.seed;
-  l.protocol = protocol;
-  l.material = material;
-  l.reduction = o.reduction;
+  take_material_and_protocol(l, material, o.reduction, *sizes, protocol);
   const double band = o.median_band_diameters * d;
   l.measurement = {{"kind", "slice_angle_of_repose"},
                    {"apparatus", l.apparatus},
@@ -249,6 +282,91 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
   return {std::move(l), ""};
 }
 
+namespace {
+
+// How demcal measures a sandglass run of either variant (engine_measure.cpp), with
+// the chamber's numbers for dem::Sandglass's bulk-density rule, applied to a dump
+// of the settled fill. slice_thickness_m is 0 for the full (3D) sandglass.
+nlohmann::json sandglass_measurement(const ApparatusLayout& l, const dem::SandglassOptions& o,
+                                     const dem::RunProtocol& protocol, double hopper_height_m,
+                                     double mean_diameter_m, double slice_thickness_m) {
+  const bool slice = slice_thickness_m > 0.0;
+  nlohmann::json m = {{"kind", slice ? "sandglass_slice" : "sandglass_full"},
+                      {"apparatus", l.apparatus},
+                      {"orifice_plane_z_m", o.drop_height_m},
+                      {"orifice_width_m", o.orifice_diameter_m},
+                      {"form_pile", o.form_pile},
+                      {"stall_time_s", protocol.stall_time_s},
+                      {"density_kg_m3", l.density_kg_m3}};
+  m["bulk_density"] = {{"upper_radius_m", 0.5 * o.upper_diameter_m},
+                       {"orifice_radius_m", 0.5 * o.orifice_diameter_m},
+                       {"orifice_plane_z_m", o.drop_height_m},
+                       {"hopper_height_m", hopper_height_m},
+                       {"mean_diameter_m", mean_diameter_m}};
+  if (slice) m["bulk_density"]["slice_thickness_m"] = slice_thickness_m;
+  return m;
+}
+
+// The full (3D) sandglass with its conical hopper, as dem::Sandglass builds it:
+// the floor, the lower chamber's cylinder up to the orifice plane, the hopper's
+// cone from the orifice up to the upper chamber's cylinder; the shut orifice
+// is a disc under the cone's outlet, removed at opening. The orifice plate
+// outside the outlet (the lower chamber's ceiling) is not written: with the
+// cone ending at the outlet it is touched only by a lower pile grown up to the
+// orifice plane, and the layout's approximations say so.
+LayoutResult layout_full_sandglass(const dem::SandglassOptions& o,
+                                   const dem::GranularMaterial& material,
+                                   const dem::RunProtocol& protocol, ApparatusLayout l,
+                                   const dem::SizeDistribution& sizes) {
+  const double d = dem::mean_diameter_m(sizes);
+  const double d_max = sizes.max_diameter_m();
+  const double ru = 0.5 * o.upper_diameter_m, rl = 0.5 * o.lower_diameter_m;
+  const double r0 = 0.5 * o.orifice_diameter_m;
+  const double zo = o.drop_height_m;
+  const double cone_h = (ru - r0) / std::tan(o.hopper_half_angle_deg * kPi / 180.0);
+  const double zc = zo + cone_h;
+  const double top = zc + o.upper_height_m;
+  const double margin = 3.0 * d_max;
+  const double plate = 2.0 * d_max;
+  l.variant = "full";
+  l.box = {{-rl - margin, -rl - margin, -margin}, {rl + margin, rl + margin, top + margin}};
+  l.periodic = {false, false, false};
+  l.planes = {{"floor", 2, 0.0, 1}};
+  l.shells = {
+      {"lower_wall", rl, rl, 0.0, zo}, {"hopper", r0, ru, zo, zc}, {"upper_wall", ru, ru, zc, top}};
+  l.closing_discs = {{"orifice_shut", r0 + plate, zo - plate, zo}};
+  std::ostringstream ceiling;
+  ceiling << "the orifice plate outside the hopper's outlet (the lower chamber's ceiling, radius "
+          << r0 << " to " << rl << " m at z = " << zo
+          << " m) is not a wall: only a lower pile grown up to the orifice plane touches it";
+  l.approximations = {ceiling.str()};
+
+  const double a = o.fill_lattice_spacing_diameters * d_max;
+  // A site's grain stays off the chamber wall.
+  const LatticeFill f = cylindrical_lattice(
+      ru - d_max - 0.5 * a, a, zc + d_max,
+      count_for_mass(o.fill_mass_kg, material.particle.density_kg_m3, sizes), d_max);
+  if (f.sites_per_layer == 0)
+    throw std::invalid_argument("sandglass: the upper chamber is too narrow for the fill lattice");
+  if (f.region.upper_m.z > top - d_max) {
+    std::ostringstream s;
+    s << "sandglass: the upper chamber cannot hold the fill: " << o.fill_mass_kg << " kg needs "
+      << f.layers << " lattice layers of " << a << " m; raise upper_height_m or lower fill_mass_kg";
+    throw std::invalid_argument(s.str());
+  }
+  l.lattice = f;
+  l.particles = f.count;
+  take_material_and_protocol(l, material, o.reduction, sizes, protocol);
+  l.discharge = true;
+  l.orifice_plane_z_m = zo;
+  l.upper_chamber = {{-ru, -ru, zo}, {ru, ru, top + margin}};
+  l.form_pile = o.form_pile;
+  l.measurement = sandglass_measurement(l, o, protocol, cone_h, d, 0.0);
+  return {std::move(l), ""};
+}
+
+}  // namespace
+
 LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                               const dem::GranularMaterial& material,
                               const dem::RunProtocol& protocol) {
@@ -256,10 +374,11 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   o.validate();
   if (!material.sizes)
     throw std::invalid_argument("sandglass: the material has no size distribution");
-  if (!o.reduction.slice)
+  if (!o.reduction.slice && o.bottom != "conical")
     return {std::nullopt,
-            "sandglass: the full (3D) sandglass is not written as deck primitives yet (cylinder "
-            "walls, a cone and a plate with a circular hole); use the slice (reduction.slice)"};
+            "sandglass: the full (3D) sandglass with a flat bottom is not written as deck "
+            "primitives yet (its plate with a circular hole); use bottom = \"conical\" or the "
+            "slice (reduction.slice)"};
   // A polydisperse fill: the lattice is spaced for the largest diameter, and the
   // deck gives its sites the size classes' diameters at random (lammps_deck.cpp).
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);
@@ -286,6 +405,7 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   }
   const double margin = 3.0 * d_max;
   const double wall = 2.0 * d_max;  // plate and chamber-wall thickness
+  if (!o.reduction.slice) return layout_full_sandglass(o, material, protocol, std::move(l), *sizes);
   l.box = {{-rl - margin, 0.0, -margin}, {rl + margin, depth, top + margin}};
   l.periodic = {false, true, false};
   l.planes = {{"floor", 2, 0.0, 1}, {"lower_left", 0, -rl, 1}, {"lower_right", 0, rl, -1}};
@@ -324,26 +444,12 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   f.jitter_m = 0.4 * (a - d_max);
   l.lattice = f;
   l.particles = f.count;
-  l.size_classes = size_classes(*sizes);
-  l.density_kg_m3 = material.particle.density_kg_m3;
-  l.time_step_s = demcal_time_step_s(material, o.reduction, *sizes, protocol);
-  l.seed = protocol.seed;
-  l.protocol = protocol;
-  l.material = material;
-  l.reduction = o.reduction;
+  take_material_and_protocol(l, material, o.reduction, *sizes, protocol);
   l.discharge = true;
   l.orifice_plane_z_m = zo;
   l.upper_chamber = {{-ru, 0.0, zo}, {ru, depth, top + margin}};
   l.form_pile = o.form_pile;
-  l.measurement = {{"kind", "sandglass_slice"},       {"apparatus", l.apparatus},
-                   {"orifice_plane_z_m", zo},         {"orifice_width_m", o.orifice_diameter_m},
-                   {"form_pile", o.form_pile},        {"stall_time_s", protocol.stall_time_s},
-                   {"density_kg_m3", l.density_kg_m3}};
-  // dem::Sandglass's bulk density: the chamber's numbers for its rule
-  // (engine_measure.cpp), measured on a dump of the settled fill.
-  l.measurement["bulk_density"] = {{"upper_radius_m", ru},       {"orifice_radius_m", r0},
-                                   {"orifice_plane_z_m", zo},    {"hopper_height_m", cone_h},
-                                   {"slice_thickness_m", depth}, {"mean_diameter_m", d}};
+  l.measurement = sandglass_measurement(l, o, protocol, cone_h, d, depth);
   return {std::move(l), ""};
 }
 
@@ -386,41 +492,25 @@ LayoutResult layout_conical_pile(const dem::ConicalPileOptions& options,
   l.discs = {{"base_plate", rb, base - plate, base}};
   l.closing_discs = {{"outlet_shut", rt, outlet - plate, outlet}};
 
-  LatticeFill f;
-  f.spacing_m = (1.0 + dem::FillOptions{}.lattice_gap) * d_max;
-  const double a = f.spacing_m;
-  const double z0 = std::ceil((outlet + funnel_h + d_max) / a) * a;
-  const double r_fill = rt - d_max - 0.5 * a;  // a site's grain stays off the feed wall
-  const double x0 = -std::ceil(r_fill / a) * a;
-  f.cylinder_radius_m = r_fill;
-  // Sites per layer: (i + 1/2) a within r_fill of the axis, as LAMMPS selects them.
-  for (long i = static_cast<long>(std::llround(x0 / a)); (i + 0.5) * a <= -x0; ++i)
-    for (long j = static_cast<long>(std::llround(x0 / a)); (j + 0.5) * a <= -x0; ++j)
-      if (std::hypot((i + 0.5) * a, (j + 0.5) * a) <= r_fill) ++f.sites_per_layer;
+  const double a = (1.0 + dem::FillOptions{}.lattice_gap) * d_max;
   const double fill_mass = o.fill_mass_kg;
-  f.count = count_for_mass(fill_mass, material.particle.density_kg_m3, *sizes);
+  // A site's grain stays off the feed wall.
+  const LatticeFill f = cylindrical_lattice(
+      rt - d_max - 0.5 * a, a, outlet + funnel_h + d_max,
+      count_for_mass(fill_mass, material.particle.density_kg_m3, *sizes), d_max);
   if (f.sites_per_layer == 0)
     throw std::invalid_argument(
         "conical_pile: the feed section is too narrow for the fill lattice");
-  f.layers = (f.count + f.sites_per_layer - 1) / f.sites_per_layer;
-  if (z0 + static_cast<double>(f.layers) * a > top - d_max) {
+  if (f.region.upper_m.z > top - d_max) {
     std::ostringstream s;
     s << "conical_pile: the feed section cannot hold the fill: " << fill_mass << " kg needs "
       << f.layers << " lattice layers of " << a
       << " m; raise feed_height_m or funnel_top_diameter_m";
     throw std::invalid_argument(s.str());
   }
-  f.region = {{x0, x0, z0}, {-x0, -x0, z0 + static_cast<double>(f.layers) * a}};
-  f.jitter_m = 0.4 * (a - d_max);
   l.lattice = f;
   l.particles = f.count;
-  l.size_classes = size_classes(*sizes);
-  l.density_kg_m3 = material.particle.density_kg_m3;
-  l.time_step_s = demcal_time_step_s(material, o.reduction, *sizes, protocol);
-  l.seed = protocol.seed;
-  l.protocol = protocol;
-  l.material = material;
-  l.reduction = o.reduction;
+  take_material_and_protocol(l, material, o.reduction, *sizes, protocol);
   l.release = true;
   l.measurement = {{"kind", "conical_angle_of_repose"},
                    {"apparatus", l.apparatus},

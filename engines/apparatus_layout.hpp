@@ -135,6 +135,8 @@ struct ApparatusLayout {
   dem::ModelReduction reduction;
   // How demcal measures the engine's output (engine_measure.hpp reads it).
   nlohmann::json measurement;
+  // Where the written geometry is not demcal's (deck headers and the run record say so).
+  std::vector<std::string> approximations;
 
   double mean_particle_mass_kg() const;
   nlohmann::json to_json() const;  // geometry and protocol for the run record
@@ -151,9 +153,10 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
                                           const dem::GranularMaterial& material,
                                           const dem::RunProtocol& protocol);
 // The slice variant, flat-bottomed or with its hopper (two slanted plates from
-// the orifice's edges up to the chamber walls, as dem::Sandglass builds them);
-// the full (3D) sandglass is refused (its plate with a hole is not written as a
-// primitive yet).
+// the orifice's edges up to the chamber walls, as dem::Sandglass builds them),
+// and the full (3D) sandglass with its conical hopper (cylinders, a cone, the
+// shut orifice as a disc); the full one with a flat bottom is refused (its
+// plate with a circular hole is not written as a primitive yet).
 LayoutResult layout_sandglass(const dem::SandglassOptions& options,
                               const dem::GranularMaterial& material,
                               const dem::RunProtocol& protocol);

@@ -14,13 +14,12 @@
 namespace demcal::engines {
 namespace {
 
-void measure_slice_pile(const std::vector<dem::Vec3>& pos, const std::vector<double>& rad,
-                        int long_axis, double base_height_m, dem::ApparatusResult& r) {
+// The pile's AoR into the result as the apparatus record it; a pile the rules
+// cannot measure leaves the observable null and says why.
+template <class Measure>
+void record_angle_of_repose(dem::ApparatusResult& r, Measure&& measure) {
   try {
-    dem::SliceAoROptions a;
-    a.long_axis = long_axis;
-    a.base_height_m = base_height_m;
-    r.series["pile"] = dem::to_json(dem::measure_slice_angle_of_repose(pos, rad, a));
+    r.series["pile"] = dem::to_json(measure());
     r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
     r.observables["angle_of_repose_uncertainty_deg"] =
         r.series["pile"]["angle_of_repose_uncertainty_deg"];
@@ -30,6 +29,24 @@ void measure_slice_pile(const std::vector<dem::Vec3>& pos, const std::vector<dou
   }
 }
 
+void measure_slice_pile(const std::vector<dem::Vec3>& pos, const std::vector<double>& rad,
+                        int long_axis, double base_height_m, dem::ApparatusResult& r) {
+  dem::SliceAoROptions a;
+  a.long_axis = long_axis;
+  a.base_height_m = base_height_m;
+  record_angle_of_repose(r, [&] { return dem::measure_slice_angle_of_repose(pos, rad, a); });
+}
+
+// About the vertical axis through x = y = 0, from base_height_m (the full
+// dem::Sandglass's lower pile: the floor; dem::ConicalPile's: its plate).
+void measure_conical_pile(const std::vector<dem::Vec3>& pos, const std::vector<double>& rad,
+                          double base_height_m, dem::ApparatusResult& r) {
+  dem::ConicalAoROptions a;
+  a.base_height_m = base_height_m;
+  a.axis_centre_m = std::array<double, 2>{0.0, 0.0};
+  record_angle_of_repose(r, [&] { return dem::measure_conical_angle_of_repose(pos, rad, a); });
+}
+
 double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
 }  // namespace
@@ -37,15 +54,15 @@ double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 
 namespace {
 
 // dem/measure/fill_bulk_density's rule on the engine's dump of the settled fill; the plan
-// carries the chamber (a slice: the decks write no 3D sandglass).
+// carries the chamber (a slice when it gives the slice's thickness, else the full one).
 double bulk_density_kg_m3(const nlohmann::json& b, const ParticleDump& fill, double density) {
   dem::FillChamber c;
   c.upper_radius_m = b.at("upper_radius_m").get<double>();
   c.orifice_radius_m = b.at("orifice_radius_m").get<double>();
   c.orifice_plane_z_m = b.at("orifice_plane_z_m").get<double>();
   c.hopper_height_m = b.at("hopper_height_m").get<double>();
-  c.slice = true;
-  c.slice_thickness_m = b.at("slice_thickness_m").get<double>();
+  c.slice = b.contains("slice_thickness_m");
+  if (c.slice) c.slice_thickness_m = b.at("slice_thickness_m").get<double>();
   c.bin_width_m = 2.0 * b.at("mean_diameter_m").get<double>();
   double mass = 0.0;
   for (const double r : fill.radius_m) mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
@@ -99,23 +116,15 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
       }
     }
     r.details["particles_on_plate"] = pos.size();
-    try {
-      dem::ConicalAoROptions a;
-      a.base_height_m = base;
-      a.axis_centre_m = std::array<double, 2>{0.0, 0.0};
-      r.series["pile"] = dem::to_json(dem::measure_conical_angle_of_repose(pos, rad, a));
-      r.observables["angle_of_repose_deg"] = r.series["pile"]["angle_of_repose_deg"];
-      r.observables["angle_of_repose_uncertainty_deg"] =
-          r.series["pile"]["angle_of_repose_uncertainty_deg"];
+    measure_conical_pile(pos, rad, base, r);
+    if (r.series.contains("pile"))
       r.observables["pile_height_m"] = r.series["pile"]["crest_height_m"];
-    } catch (const std::runtime_error& e) {
-      r.observables["angle_of_repose_deg"] = nullptr;
-      r.details["angle_of_repose_error"] = e.what();
-    }
     r.observables["pile_base_diameter_m"] = 2.0 * std::min(reach, rb);
     return r;
   }
-  if (kind == "sandglass_slice") {
+  if (kind == "sandglass_slice" || kind == "sandglass_full") {
+    // As dem::Sandglass for either variant; the full one is axisymmetric about x = y = 0.
+    const bool full = kind == "sandglass_full";
     if (series == nullptr) throw std::invalid_argument("sandglass measurement: no mass series");
     const double fill = series->fill_mass_kg();
     dem::DischargeOptions dopt;
@@ -129,8 +138,10 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
     const double w = plan.at("orifice_width_m").get<double>();
     if (flow.status == "complete" && flow.discharged_fraction < 1.0) {
       std::size_t over = 0;
-      for (const auto& x : dump.position_m)
-        if (x.z > zo && x.z < zo + 2.0 * w && std::abs(x.x) < 0.25 * w) ++over;
+      for (const auto& x : dump.position_m) {
+        const double off_axis = full ? std::hypot(x.x, x.y) : std::abs(x.x);
+        if (x.z > zo && x.z < zo + 2.0 * w && off_axis < 0.25 * w) ++over;
+      }
       r.details["grains_over_orifice_at_stop"] = over;
       if (over > 0) {
         std::ostringstream status;
@@ -165,7 +176,10 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
           pos.push_back(dump.position_m[i]);
           rad.push_back(dump.radius_m[i]);
         }
-      measure_slice_pile(pos, rad, 0, 0.0, r);
+      if (full)
+        measure_conical_pile(pos, rad, 0.0, r);
+      else
+        measure_slice_pile(pos, rad, 0, 0.0, r);
     }
     return r;
   }

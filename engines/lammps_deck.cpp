@@ -74,6 +74,7 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "# demcal contact law: normal " << l.material.contact.normal << ", tangential "
     << l.material.contact.tangential << ", rolling " << l.material.contact.rolling << "\n";
   for (const auto& a : map.approximations) s << "# approximation: " << a << "\n";
+  for (const auto& a : l.approximations) s << "# approximation (geometry): " << a << "\n";
   s << "\nunits           si\n"
     << "atom_style      sphere\n"
     << "boundary        " << (l.periodic[0] ? "p" : "f") << " " << (l.periodic[1] ? "p" : "f")
@@ -234,6 +235,7 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
       << " id type x y z radius modify sort id\n";
     s << "\n# --- open the orifice: the shut plate goes, the plate with the opening comes\n";
     for (const auto& b : l.closing_blocks) s << "unfix           wall_" << b.name << "\n";
+    for (const auto& d : l.closing_discs) s << "unfix           wall_" << d.name << "\n";
     for (const auto& b : l.opened_blocks) block(b);
     s << "region          upper_chamber block " << box_words(l.upper_chamber) << " units box\n"
       << "variable        t_open equal $(time)\n"

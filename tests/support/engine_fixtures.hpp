@@ -4,6 +4,7 @@
 // enough that a deck written from it runs in seconds.
 
 #include "dem/apparatus/granular_material.hpp"
+#include "dem/apparatus/sandglass.hpp"
 #include "dem/size_distribution.hpp"
 
 namespace demcal::testing {
@@ -25,6 +26,24 @@ inline dem::GranularMaterial peer_material(const std::string& rolling = "epsd") 
   m.contact.rolling = rolling;
   m.sizes = dem::make_monodisperse(1e-3);
   return m;
+}
+
+// The full (3D) sandglass for peer_material's 1 mm grains: a 24 mm chamber on a
+// 30-degree hopper down to an 8 mm orifice 30 mm above the floor of a 60 mm
+// lower chamber.
+inline dem::SandglassOptions small_full_sandglass(double fill_mass_kg) {
+  dem::SandglassOptions s;
+  s.bottom = "conical";
+  s.hopper_half_angle_deg = 30.0;
+  s.reduction.slice = false;
+  s.upper_diameter_m = 0.024;
+  s.orifice_diameter_m = 0.008;
+  s.upper_height_m = 0.03;
+  s.lower_diameter_m = 0.06;
+  s.drop_height_m = 0.03;
+  s.fill_mass_kg = fill_mass_kg;
+  s.fill_lattice_spacing_diameters = 1.25;
+  return s;
 }
 
 }  // namespace demcal::testing
