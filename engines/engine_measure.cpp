@@ -47,6 +47,27 @@ void measure_conical_pile(const std::vector<dem::Vec3>& pos, const std::vector<d
   record_angle_of_repose(r, [&] { return dem::measure_conical_angle_of_repose(pos, rad, a); });
 }
 
+// The stall time an engine's m(t) can show. The deck ends the flow when the mass
+// above the orifice is unchanged over a whole chunk of stall_time_s, but it samples
+// m(t) every few steps on the engine's global step grid, not at the chunk's ends: the
+// first sample of the quiet chunk can fall up to one interval after its start and the
+// last up to one before its end, so the constant tail the series ends with may be
+// two intervals shorter than the stall time (20 samples of 4.998 ms, 0.09997 s,
+// against 0.1 s: read as a flow still running, with no discharge time). demcal's own
+// runs check the stall at every sample and need no such allowance.
+double resolvable_stall_time_s(double stall_time_s, const MassSeries& series) {
+  const std::size_t n = series.time_s.size();
+  if (n < 2) return stall_time_s;
+  std::vector<double> spacing(n - 1);
+  for (std::size_t i = 1; i < n; ++i) spacing[i - 1] = series.time_s[i] - series.time_s[i - 1];
+  std::nth_element(spacing.begin(),
+                   spacing.begin() + static_cast<std::ptrdiff_t>(spacing.size() / 2),
+                   spacing.end());
+  const double interval = spacing[spacing.size() / 2];  // the median: robust to a short last one
+  const double resolvable = stall_time_s - 2.0 * interval;
+  return resolvable > 0.0 ? resolvable : stall_time_s;
+}
+
 double coord(const dem::Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
 }  // namespace
@@ -128,7 +149,7 @@ dem::ApparatusResult measure_engine_output(const nlohmann::json& plan, const Par
     if (series == nullptr) throw std::invalid_argument("sandglass measurement: no mass series");
     const double fill = series->fill_mass_kg();
     dem::DischargeOptions dopt;
-    dopt.stall_time_s = plan.at("stall_time_s").get<double>();
+    dopt.stall_time_s = resolvable_stall_time_s(plan.at("stall_time_s").get<double>(), *series);
     // As dem::Sandglass: a flat bottom keeps dead zones, so a clog is judged
     // by an arch over the orifice, not by the fraction discharged.
     dopt.complete_fraction = 1e-9;

@@ -176,5 +176,42 @@ TEST(EnginesMeasure, SandglassDischargeFromASeries) {
   EXPECT_THROW(measure_engine_output(plan, d, nullptr), std::invalid_argument);
 }
 
+// The flat slice of studies/engine-crosscheck on LIGGGHTS: m(t) sampled every
+// 561 steps (4.998 ms), the flow stopped at about half the fill (dead zones on
+// the flat bottom), and the deck ended it after a 0.1 s chunk with no change. Its
+// series then ends with 20 equal samples, 0.09997 s: two sample intervals are
+// what the deck's sampling can fall short of the stall time, so that is a stop.
+TEST(EnginesMeasure, AStopIsReadAtTheResolutionOfTheEnginesSampling) {
+  const double interval = 0.0049984;
+  auto stopped_series = [&](int quiet_samples) {
+    MassSeries m;
+    const double out = 1.66e-3, fill = 3.24e-3;
+    for (int i = 0;; ++i) {
+      const double t = interval * i;
+      const double passed = std::min(out, 0.0083 * t);
+      m.time_s.push_back(t);
+      m.discharged_kg.push_back(passed);
+      m.above_orifice_kg.push_back(fill - passed);
+      if (passed == out && --quiet_samples < 0) break;
+    }
+    return m;
+  };
+  const nlohmann::json plan = {{"kind", "sandglass_slice"}, {"apparatus", "sandglass"},
+                               {"orifice_plane_z_m", 0.03}, {"orifice_width_m", 0.008},
+                               {"form_pile", false},        {"stall_time_s", 0.1}};
+  const MassSeries ended = stopped_series(20);
+  ASSERT_LT(ended.time_s.back() - ended.time_s[ended.time_s.size() - 21], 0.1);
+  const auto r = measure_engine_output(plan, ParticleDump{}, &ended);
+  EXPECT_FALSE(r.observables["discharge_time_s"].is_null()) << r.details["discharge"].dump(1);
+  EXPECT_NEAR(r.details["retained_in_dead_zones_fraction"].get<double>(), 1.0 - 1.66 / 3.24,
+              1e-3);
+  // A quiet tail three intervals short of the stall time is a flow still
+  // running when the series ended (a time cap), as before.
+  const MassSeries cut = stopped_series(17);
+  const auto running = measure_engine_output(plan, ParticleDump{}, &cut);
+  EXPECT_TRUE(running.observables["discharge_time_s"].is_null());
+  EXPECT_EQ(running.details["discharge"]["status"], "running");
+}
+
 }  // namespace
 }  // namespace demcal::engines
