@@ -96,6 +96,15 @@ TEST(EnginesFullSandglass, RefusedWhereNoPrimitiveIsWritten) {
   ASSERT_FALSE(liggghts.ok());
   EXPECT_NE(liggghts.refusal.find("cones, cylinders and discs"), std::string::npos)
       << liggghts.refusal;
+  // A fill the chamber cannot hold is an error naming the keys to change, as in demcal.
+  auto heavy = full_sandglass();
+  heavy.fill_mass_kg = 0.1;
+  try {
+    (void)write_lammps_deck(heavy, m, p);
+    ADD_FAILURE() << "a 0.1 kg fill was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("upper_height_m"), std::string::npos) << e.what();
+  }
   // An orifice below 3 grains is an error, as in demcal, not a refusal.
   auto narrow = full_sandglass();
   narrow.orifice_diameter_m = 0.002;
