@@ -284,6 +284,35 @@ LayoutResult layout_rectangular_container(const dem::RectangularContainerOptions
 
 namespace {
 
+// The sandglass's numbers as dem::Sandglass derives them, for either variant.
+struct SandglassGeometry {
+  double d = 0.0, d_max = 0.0;      // mean and largest (coarse-grained) diameter
+  double ru = 0.0, rl = 0.0;        // upper and lower chamber radius (half-widths in a slice)
+  double r0 = 0.0;                  // orifice radius (half-width of the slot)
+  double zo = 0.0;                  // the orifice plane
+  double cone_h = 0.0;              // the hopper's height (0 for a flat bottom)
+  double zc = 0.0, top = 0.0;       // where the chamber's vertical walls begin and end
+  double margin = 0.0, wall = 0.0;  // box margin; plate and wall thickness
+};
+
+SandglassGeometry sandglass_geometry(const dem::SandglassOptions& o,
+                                     const dem::SizeDistribution& sizes) {
+  SandglassGeometry g;
+  g.d = dem::mean_diameter_m(sizes);
+  g.d_max = sizes.max_diameter_m();
+  g.ru = 0.5 * o.upper_diameter_m;
+  g.rl = 0.5 * o.lower_diameter_m;
+  g.r0 = 0.5 * o.orifice_diameter_m;
+  g.zo = o.drop_height_m;
+  g.cone_h =
+      o.bottom == "conical" ? (g.ru - g.r0) / std::tan(o.hopper_half_angle_deg * kPi / 180.0) : 0.0;
+  g.zc = g.zo + g.cone_h;
+  g.top = g.zc + o.upper_height_m;
+  g.margin = 3.0 * g.d_max;
+  g.wall = 2.0 * g.d_max;
+  return g;
+}
+
 // How demcal measures a sandglass run of either variant (engine_measure.cpp), with
 // the chamber's numbers for dem::Sandglass's bulk-density rule, applied to a dump
 // of the settled fill. slice_thickness_m is 0 for the full (3D) sandglass.
@@ -317,17 +346,9 @@ nlohmann::json sandglass_measurement(const ApparatusLayout& l, const dem::Sandgl
 LayoutResult layout_full_sandglass(const dem::SandglassOptions& o,
                                    const dem::GranularMaterial& material,
                                    const dem::RunProtocol& protocol, ApparatusLayout l,
-                                   const dem::SizeDistribution& sizes) {
-  const double d = dem::mean_diameter_m(sizes);
-  const double d_max = sizes.max_diameter_m();
-  const double ru = 0.5 * o.upper_diameter_m, rl = 0.5 * o.lower_diameter_m;
-  const double r0 = 0.5 * o.orifice_diameter_m;
-  const double zo = o.drop_height_m;
-  const double cone_h = (ru - r0) / std::tan(o.hopper_half_angle_deg * kPi / 180.0);
-  const double zc = zo + cone_h;
-  const double top = zc + o.upper_height_m;
-  const double margin = 3.0 * d_max;
-  const double plate = 2.0 * d_max;
+                                   const dem::SizeDistribution& sizes, const SandglassGeometry& g) {
+  const double d = g.d, d_max = g.d_max, ru = g.ru, rl = g.rl, r0 = g.r0, zo = g.zo;
+  const double cone_h = g.cone_h, zc = g.zc, top = g.top, margin = g.margin, plate = g.wall;
   l.variant = "full";
   l.box = {{-rl - margin, -rl - margin, -margin}, {rl + margin, rl + margin, top + margin}};
   l.periodic = {false, false, false};
@@ -385,16 +406,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   ApparatusLayout l;
   l.apparatus = "sandglass";
   l.variant = "slice";
-  const double d = dem::mean_diameter_m(*sizes);
-  const double d_max = sizes->max_diameter_m();
-  const double ru = 0.5 * o.upper_diameter_m, rl = 0.5 * o.lower_diameter_m;
-  const double r0 = 0.5 * o.orifice_diameter_m;
-  const double zo = o.drop_height_m;
-  // The hopper's height, as dem::Sandglass takes it (0 for a flat bottom).
-  const double cone_h =
-      o.bottom == "conical" ? (ru - r0) / std::tan(o.hopper_half_angle_deg * kPi / 180.0) : 0.0;
-  const double zc = zo + cone_h;  // where the vertical chamber walls begin
-  const double top = zc + o.upper_height_m;
+  const SandglassGeometry g = sandglass_geometry(o, *sizes);
+  const double d = g.d, d_max = g.d_max, ru = g.ru, rl = g.rl, r0 = g.r0, zo = g.zo;
+  const double cone_h = g.cone_h, zc = g.zc, top = g.top;
   const double depth = o.reduction.slice_thickness_diameters * d;
   const double fill_mass = o.fill_mass_kg * depth / o.upper_diameter_m;
   if (o.orifice_diameter_m < 3.0 * d) {
@@ -403,9 +417,9 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
       << " m) is below 3 particle diameters (" << 3.0 * d << " m); the flow would arch at once";
     throw std::invalid_argument(s.str());
   }
-  const double margin = 3.0 * d_max;
-  const double wall = 2.0 * d_max;  // plate and chamber-wall thickness
-  if (!o.reduction.slice) return layout_full_sandglass(o, material, protocol, std::move(l), *sizes);
+  const double margin = g.margin, wall = g.wall;
+  if (!o.reduction.slice)
+    return layout_full_sandglass(o, material, protocol, std::move(l), *sizes, g);
   l.box = {{-rl - margin, 0.0, -margin}, {rl + margin, depth, top + margin}};
   l.periodic = {false, true, false};
   l.planes = {{"floor", 2, 0.0, 1}, {"lower_left", 0, -rl, 1}, {"lower_right", 0, rl, -1}};
