@@ -35,6 +35,9 @@
 //                                         #   surface energy > 0 with "none" is refused
 //   tangential = "mindlin"                # required
 //   rolling = "epsd"                      # required
+//                                         #   "cdt" | "epsd" | "sds" | "none": "epsd"'s spring
+//                                         #   follows the overlap, "sds"'s is constant as
+//                                         #   LAMMPS's (dem/contact/constant_spring_rolling.hpp)
 //   cdt_own_angular_velocity = false      # opt, only with rolling = "cdt"
 //
 //   [[material]]                          # one or more

@@ -54,6 +54,9 @@
 //                                         #   surface energy > 0 with "none" is refused
 //   tangential = "mindlin"                # required
 //   rolling = "cdt"                       # required
+//                                         #   "cdt" | "epsd" | "sds" | "none": "epsd"'s spring
+//                                         #   follows the overlap, "sds"'s is constant as
+//                                         #   LAMMPS's (dem/contact/constant_spring_rolling.hpp)
 //   cdt_own_angular_velocity = false      # opt, only with rolling = "cdt"
 //   restitution_model = "exact"           # opt, "exact" | "linear_spring_formula"
 //

@@ -187,11 +187,12 @@ CardResult liggghts_card(const MaterialCardInput& in, const MappingOptions& opt)
 // with the lever to the contact point and each grain's own angular velocity.
 CardResult edem_card(const MaterialCardInput& in, const MappingOptions& opt) {
   const auto& mat = in.material;
-  if (mat.contact.rolling == "epsd")
-    return {
-        std::nullopt,
-        "EDEM's standard rolling friction is the constant directional torque (type A); demcal's "
-        "\"epsd\" (elastic-plastic spring-dashpot) has no standard EDEM counterpart"};
+  if (mat.contact.rolling == "epsd" || mat.contact.rolling == "sds")
+    return {std::nullopt,
+            "EDEM's standard rolling friction is the constant directional torque (type A); "
+            "demcal's \"" +
+                mat.contact.rolling +
+                "\" (elastic-plastic spring-dashpot) has no standard EDEM counterpart"};
   // LIGGGHTS's mapping gives the restitution EDEM needs (same formula), but
   // its cdt lever is R*: EDEM's is the distance to the contact, as demcal's.
   const auto r = map_to_liggghts(mat, in.reduction, opt);

@@ -2,6 +2,7 @@
 
 #include "engines/deck.hpp"
 
+#include "dem/contact/constant_spring_rolling.hpp"
 #include "dem/contact/jkr_adhesion.hpp"
 #include "dem/contact/pair_coefficients.hpp"
 
@@ -241,8 +242,8 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
   if (m.contact.rolling == "cdt" && !options.allow_rolling_substitute) {
     result.refusal =
         "LAMMPS has no constant directional torque (demcal rolling \"cdt\"); its rolling sds is "
-        "a spring-dashpot-slider like demcal's \"epsd\". Calibrate with rolling = \"epsd\", or "
-        "allow the substitute (same limiting torque: mu_r x 2 between equal spheres)";
+        "the spring-dashpot-slider demcal calls \"sds\". Calibrate with rolling = \"sds\" (or "
+        "\"epsd\"), or allow the substitute (same limiting torque: mu_r x 2 between equal spheres)";
     return result;
   }
   const Resolved r = resolve(m, reduction);
@@ -302,11 +303,17 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     if (m.contact.rolling != "none" && c.rolling_friction > 0.0) {
       l.rolling = true;
       const bool cdt = m.contact.rolling == "cdt";
+      const bool sds = m.contact.rolling == "sds";
       // cdt's torque on a grain is mu_r F_n l, l ~ R_i; sds's is mu_r' F_n R_eff.
       l.rolling_friction = cdt ? c.rolling_friction * radius / reff : c.rolling_friction;
       const double f = cdt ? 2.25 : c.rolling_stiffness_factor;
       const double zeta = cdt ? 0.3 : c.rolling_damping_ratio;
-      const double overlap = options.reference_overlap_fraction * reff;
+      // demcal's sds is LAMMPS's constant spring at its own reference overlap;
+      // epsd's overlap-dependent spring is matched at the option's.
+      const double overlap_fraction =
+          sds ? c.part_values[dem::constant_spring_rolling::kReferenceOverlapSlot]
+              : options.reference_overlap_fraction;
+      const double overlap = overlap_fraction * reff;
       const double sn = 2.0 * c.youngs_modulus_eff_pa * std::sqrt(reff * overlap);
       l.rolling_stiffness_n_m = f * sn * l.rolling_friction * l.rolling_friction;
       // Reduced inertia about the contact (Ai et al. 2011): 7/5 m R^2 per sphere.
@@ -317,11 +324,11 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
       map.parameters.push_back(
           {pair, "sds mu_r", l.rolling_friction,
            cdt ? "demcal cdt mu_r x l / R_eff (substitute: same limiting torque)"
-               : "demcal epsd mu_r (same lever R*)"});
-      map.parameters.push_back(
-          {pair, "sds k_roll", l.rolling_stiffness_n_m,
-           "f S_n(delta_ref) mu_r^2, delta_ref = " + num(options.reference_overlap_fraction) +
-               " R*, f = " + num(f)});
+               : "demcal " + m.contact.rolling + " mu_r (same lever R*)"});
+      map.parameters.push_back({pair, "sds k_roll", l.rolling_stiffness_n_m,
+                                std::string(sds ? "demcal sds's constant spring (exact): " : "") +
+                                    "f S_n(delta_ref) mu_r^2, delta_ref = " +
+                                    num(overlap_fraction) + " R*, f = " + num(f)});
       map.parameters.push_back({pair, "sds gamma_roll", l.rolling_damping_n_s_m,
                                 "zeta 2 sqrt(k_roll R*^2 I_r) / R*^2, zeta = " + num(zeta)});
     }
@@ -400,6 +407,12 @@ MappingResult<LiggghtsMapping> map_to_liggghts(const dem::GranularMaterial& m,
   if (m.contact.tangential != "mindlin") {
     result.refusal = "LIGGGHTS: no mapping for demcal's tangential part \"" + m.contact.tangential +
                      "\" (use mindlin with sliding_friction 0)";
+    return result;
+  }
+  if (m.contact.rolling == "sds") {
+    result.refusal =
+        "LIGGGHTS 3.8 has no constant rolling spring (demcal rolling \"sds\"): its epsd and "
+        "epsd2 springs follow the overlap. Calibrate with rolling = \"epsd\" for LIGGGHTS";
     return result;
   }
   if (m.contact.rolling == "cdt" && m.contact.cdt_own_angular_velocity) {

@@ -34,8 +34,12 @@
 //    k_roll = f S_n(delta_ref) mu_r^2 at a reference overlap delta_ref =
 //    reference_overlap_fraction R* (torque stiffness k_roll R*^2 equal there),
 //    and gamma_roll R*^2 = zeta 2 sqrt(k_r I_r) (I_r the reduced inertia about
-//    the contact, 7/5 m R^2 per sphere). demcal "cdt" is a constant torque
-//    mu_r F_n l_i on each grain (l_i ~ R_i): no LAMMPS counterpart; refused unless
+//    the contact, 7/5 m R^2 per sphere). demcal "sds"
+//    (dem/contact/constant_spring_rolling.hpp) is that constant spring itself,
+//    frozen at its own rolling_reference_overlap_fraction per pair: k_roll
+//    carries over exactly and no spring approximation is stated. demcal "cdt" is
+//    a constant torque mu_r F_n l_i on each grain (l_i ~ R_i): no LAMMPS
+//    counterpart; refused unless
 //    allow_rolling_substitute, then sds with the same limiting torque
 //    (mu_r_LAMMPS = mu_r l / R_eff: 2 mu_r between equal spheres, mu_r at a wall).
 //    At the limit LAMMPS caps spring + dashpot together and stores the spring as
@@ -92,6 +96,8 @@
 //    spring is 2.25 k_n (mu_r R*)^2 on the secant Hertz stiffness 4/3 E* a,
 //    demcal's f S_n on the tangent one 2 E* a: equal when f = 1.5 (noted otherwise);
 //    coefficientRollingViscousDamping = demcal's rolling_damping_ratio.
+//    demcal "sds" (a constant rolling spring) is refused: LIGGGHTS's epsd and
+//    epsd2 springs both follow the overlap.
 
 #include "dem/apparatus/granular_material.hpp"
 

@@ -22,6 +22,7 @@
 // loops instantiated for a combination with such a part; the loops of every
 // other combination are the ones of a law without it.
 
+#include "dem/contact/constant_spring_rolling.hpp"
 #include "dem/contact/hertz_normal.hpp"
 #include "dem/contact/jkr_adhesion.hpp"
 #include "dem/contact/liquid_bridge.hpp"
@@ -42,7 +43,8 @@ namespace demcal::dem {
 using NormalPart = std::variant<HertzNormal>;
 using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion, LiquidBridge>;
 using TangentialPart = std::variant<MindlinTangential, NoTangential>;
-using RollingPart = std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot, NoRolling>;
+using RollingPart = std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot,
+                                 ConstantSpringDashpot, NoRolling>;
 
 // What a config says about the contact law.
 struct ContactLawSpec {

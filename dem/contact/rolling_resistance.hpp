@@ -66,12 +66,46 @@ struct ConstantDirectionalTorque {
   }
 };
 
-// Elastic–plastic spring–dashpot rolling resistance (Iwashita & Oda 1998;
-// Ai, Chen, Rotter & Ooi 2011, model C): a rolling spring k_r = 2.25 k_n (mu_r R*)^2
-// on the relative rolling rotation, a dashpot at a fraction of its critical
-// damping, and a plastic limit |M| <= mu_r R* F_n at which the dashpot is idle.
-// The lever arm is R*, as in Ai et al. and LAMMPS's "rolling sds": the same mu_r
-// means the same limiting torque there.
+// The spring–dashpot–slider both spring rolling parts share (Iwashita & Oda
+// 1998; Ai, Chen, Rotter & Ooi 2011, model C): a rolling spring of the given
+// stiffness (N m/rad) on the relative rolling rotation, a dashpot at a
+// fraction of its critical damping, and a plastic limit |M| <= arm F_n, arm =
+// mu_r R*, at which the dashpot is idle. The parts differ only in the spring's
+// stiffness, so that difference is all either of them states.
+[[gnu::always_inline]] inline void apply_rolling_spring_dashpot_slider(
+    const ContactKinematics& k, const PairCoefficients& c, double arm_m, double stiffness_nm_rad,
+    ContactHistory& h, ContactForce& f) {
+  const Vec3 w = relative_rolling_velocity(k);
+  Vec3 spring =
+      rotate_into_tangent_plane(h.rolling_torque_nm, k.normal) - stiffness_nm_rad * k.dt_s * w;
+  const double limit = arm_m * f.friction_load_n;
+  const double s2 = norm2(spring);
+  Vec3 torque;
+  if (s2 > limit * limit) {
+    spring *= limit / std::sqrt(s2);
+    torque = spring;
+  } else {
+    // Reduced moment of inertia about the contact point (Ai et al., eq. 16).
+    const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
+    double inv_ir = 1.0 / ii;
+    if (k.inv_inertia_j_kg_m2 > 0.0)
+      inv_ir += 1.0 / (1.0 / k.inv_inertia_j_kg_m2 + k.lever_j_m * k.lever_j_m / k.inv_mass_j_kg);
+    const double damping = c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness_nm_rad / inv_ir);
+    torque = spring - damping * w;
+    if (stiffness_nm_rad > 0.0) f.elastic_energy_j += 0.5 * norm2(spring) / stiffness_nm_rad;
+  }
+  h.rolling_torque_nm = spring;
+  f.torque_i_nm += torque;
+  f.torque_j_nm -= torque;
+}
+
+// Elastic–plastic spring–dashpot rolling resistance (Ai et al. 2011, model C)
+// with the spring of Iwashita & Oda: k_r = factor * k_n * (mu_r R*)^2, k_n the
+// normal part's tangent stiffness at this overlap, so the spring stiffens as
+// the contact is loaded (LIGGGHTS's "epsd" does the same). The lever arm is R*,
+// as in Ai et al. and LAMMPS's "rolling sds": the same mu_r means the same
+// limiting torque there. A spring that does not follow the overlap is "sds"
+// (dem/contact/constant_spring_rolling.hpp).
 struct ElasticPlasticSpringDashpot {
   static constexpr const char* kName = "epsd";
 
@@ -80,27 +114,7 @@ struct ElasticPlasticSpringDashpot {
     if (c.rolling_friction == 0.0) return;
     const double arm = c.rolling_friction * k.radius_eff_m;
     const double stiffness = c.rolling_stiffness_factor * f.normal_stiffness_n_m * arm * arm;
-    const Vec3 w = relative_rolling_velocity(k);
-    Vec3 spring = rotate_into_tangent_plane(h.rolling_torque_nm, k.normal) - stiffness * k.dt_s * w;
-    const double limit = arm * f.friction_load_n;
-    const double s2 = norm2(spring);
-    Vec3 torque;
-    if (s2 > limit * limit) {
-      spring *= limit / std::sqrt(s2);
-      torque = spring;
-    } else {
-      // Reduced moment of inertia about the contact point (Ai et al., eq. 16).
-      const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
-      double inv_ir = 1.0 / ii;
-      if (k.inv_inertia_j_kg_m2 > 0.0)
-        inv_ir += 1.0 / (1.0 / k.inv_inertia_j_kg_m2 + k.lever_j_m * k.lever_j_m / k.inv_mass_j_kg);
-      const double damping = c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness / inv_ir);
-      torque = spring - damping * w;
-      if (stiffness > 0.0) f.elastic_energy_j += 0.5 * norm2(spring) / stiffness;
-    }
-    h.rolling_torque_nm = spring;
-    f.torque_i_nm += torque;
-    f.torque_j_nm -= torque;
+    apply_rolling_spring_dashpot_slider(k, c, arm, stiffness, h, f);
   }
 };
 

@@ -89,7 +89,8 @@ TEST_P(RollingResistanceIncline, HeldBelowTanThetaEqualsMuRAndRollingAbove) {
   EXPECT_NEAR(rolls.acceleration_m_s2, expected, 0.02 * expected);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothModels, RollingResistanceIncline, ::testing::Values("cdt", "epsd"));
+INSTANTIATE_TEST_SUITE_P(EveryModel, RollingResistanceIncline,
+                         ::testing::Values("cdt", "epsd", "sds"));
 
 }  // namespace
 }  // namespace demcal::dem

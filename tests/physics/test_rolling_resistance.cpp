@@ -41,7 +41,7 @@ TEST_P(RollingStop, StopsAtTheAnalyticDistance) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(BothModels, RollingStop, ::testing::Values("cdt", "epsd"));
+INSTANTIATE_TEST_SUITE_P(EveryModel, RollingStop, ::testing::Values("cdt", "epsd", "sds"));
 
 }  // namespace
 }  // namespace demcal::dem

@@ -96,6 +96,33 @@ TEST(ContactPartParameters, TheLiquidBridgeReachesTheEngineFromAStudy) {
             "normal=hertz adhesion=liquid_bridge tangential=mindlin rolling=cdt");
 }
 
+// The constant rolling spring ("sds", dem/contact/constant_spring_rolling.hpp):
+// its reference overlap per pair reaches the engine, the default elsewhere;
+// given with another rolling part, or out of its range, it is refused at its key.
+TEST(ContactPartParameters, TheConstantRollingSpringReachesTheEngineFromAStudy) {
+  const std::string sds = replace(kStudy, "rolling = \"cdt\"\n", "rolling = \"sds\"\n");
+  const StudyConfig s =
+      build(sds, {"interaction.particle_particle.rolling_reference_overlap_fraction=0.002"});
+  const int slot = dem::constant_spring_rolling::kReferenceOverlapSlot;
+  EXPECT_DOUBLE_EQ(s.material.particle_particle.part_values[static_cast<std::size_t>(slot)], 0.002);
+  EXPECT_DOUBLE_EQ(s.material.particle_wall.part_values[static_cast<std::size_t>(slot)], 0.005);
+  EXPECT_EQ(s.apparatus.front().apparatus->simulation().contact_law().describe(),
+            "normal=hertz adhesion=none tangential=mindlin rolling=sds");
+  auto refused = [&](const std::string& text, const std::string& value,
+                     const std::vector<std::string>& parts) {
+    try {
+      build(text, {"interaction.particle_particle.rolling_reference_overlap_fraction=" + value});
+      ADD_FAILURE() << "accepted " << value;
+    } catch (const ConfigError& e) {
+      for (const auto& p : parts)
+        EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    }
+  };
+  refused(kStudy, "0.002", {"rolling_reference_overlap_fraction", "cdt"});
+  refused(sds, "0", {"rolling_reference_overlap_fraction", "(0, 0.1]"});
+  refused(sds, "0.5", {"rolling_reference_overlap_fraction", "(0, 0.1]"});
+}
+
 TEST(ContactPartParameters, CoarseGrainingFollowsTheDeclaredExponent) {
   for (const dem::RegisteredPartParameter& r : dem::registered_part_parameters()) {
     const double e = r.parameter.coarse_graining_exponent;

@@ -3,6 +3,7 @@
 // of each rolling model, and the refusals.
 #include "engines/parameter_mapping.hpp"
 
+#include "dem/contact/constant_spring_rolling.hpp"
 #include "dem/contact/restitution_damping.hpp"
 #include "tests/support/engine_fixtures.hpp"
 
@@ -151,6 +152,46 @@ TEST(EnginesMapping, LammpsRollingSpringIsDemcalsAtTheReferenceOverlap) {
     check(m.particle_particle, 0.5 * radius, 0.1, 0.7 * mass * radius * radius);
     check(m.particle_wall, radius, 0.3, 1.4 * mass * radius * radius);
   }
+}
+
+// demcal's "sds" is LAMMPS's constant spring itself: k_roll comes from the
+// part's own reference overlap per pair (not the option that matches epsd),
+// and the mapping states no spring approximation. LIGGGHTS has no constant
+// rolling spring and refuses it by name; so does an EDEM card (material_card).
+TEST(EnginesMapping, DemcalsConstantRollingSpringCarriesOverToLammpsExactly) {
+  const double e_star = 1e7 / (2.0 * (1.0 - 0.09));
+  const double radius = 0.5e-3;
+  const double f = dem::InteractionParameters{}.rolling_stiffness_factor;
+  auto sds = peer_material("sds");
+  const int slot = dem::constant_spring_rolling::kReferenceOverlapSlot;
+  sds.particle_particle.part_values[static_cast<std::size_t>(slot)] = 0.002;
+  // The wall pair keeps the part's default, 0.005.
+  MappingOptions o;
+  o.reference_overlap_fraction = 0.05;  // epsd's match point: not sds's
+  const auto mapped = map_to_lammps(sds, {}, o);
+  ASSERT_TRUE(mapped.ok()) << mapped.refusal;
+  const auto& m = mapped.value();
+  auto k_roll = [&](double reff, double mu_r, double q) {
+    return f * 2.0 * e_star * reff * std::sqrt(q) * mu_r * mu_r;
+  };
+  EXPECT_NEAR(m.particle_particle.rolling_stiffness_n_m, k_roll(0.5 * radius, 0.1, 0.002),
+              1e-12 * k_roll(0.5 * radius, 0.1, 0.002));
+  EXPECT_NEAR(m.particle_wall.rolling_stiffness_n_m, k_roll(radius, 0.3, 0.005),
+              1e-12 * k_roll(radius, 0.3, 0.005));
+  EXPECT_DOUBLE_EQ(m.particle_particle.rolling_friction, 0.1);
+  for (const auto& a : m.approximations)
+    EXPECT_EQ(a.find("rolling spring constant in LAMMPS"), std::string::npos) << a;
+  const auto epsd = map_to_lammps(peer_material(), {}).value();
+  bool epsd_says_spring = false;
+  for (const auto& a : epsd.approximations)
+    epsd_says_spring |= a.find("rolling spring constant in LAMMPS") != std::string::npos;
+  EXPECT_TRUE(epsd_says_spring);
+
+  const auto liggghts = map_to_liggghts(sds, {});
+  ASSERT_FALSE(liggghts.ok());
+  EXPECT_NE(liggghts.refusal.find("constant rolling spring (demcal rolling \"sds\")"),
+            std::string::npos)
+      << liggghts.refusal;
 }
 
 // LAMMPS's sds slider keeps its dashpot at the rolling limit, demcal's epsd

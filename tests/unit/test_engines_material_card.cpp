@@ -71,6 +71,17 @@ TEST(EnginesMaterialCard, Refusals) {
   EXPECT_NE(
       write_material_card(calibrated_input("epsd"), CardFormat::kEdemCsv).refusal.find("epsd"),
       std::string::npos);
+  // A constant rolling spring: LAMMPS runs it as calibrated; LIGGGHTS and EDEM
+  // have none and refuse it by name.
+  EXPECT_NE(write_material_card(calibrated_input("sds"), CardFormat::kEdemCsv).refusal.find("sds"),
+            std::string::npos);
+  EXPECT_NE(write_material_card(calibrated_input("sds"), CardFormat::kLiggghts)
+                .refusal.find("constant rolling spring"),
+            std::string::npos);
+  const auto sds = write_material_card(calibrated_input("sds"), CardFormat::kLammps);
+  ASSERT_TRUE(sds.ok()) << sds.refusal;
+  EXPECT_NE(sds.text->find("rolling sds, restitution"), std::string::npos) << *sds.text;
+  EXPECT_EQ(sds.text->find("rolling spring constant in LAMMPS"), std::string::npos) << *sds.text;
   auto bad = calibrated_input();
   bad.calibrated.push_back({"particle_particle.mu", 1.0, 0.0, 2.0});
   EXPECT_THROW(write_material_card(bad, CardFormat::kJson), std::invalid_argument);
