@@ -1,5 +1,7 @@
 #include "engines/deck.hpp"
 
+#include "engines/apparatus_layout.hpp"
+
 #include <fstream>
 #include <iomanip>
 #include <locale>
@@ -22,6 +24,17 @@ std::string deck_number(double v) {
     if (r == v || p == 17) return s.str();
   }
   return "";
+}
+
+std::string lattice_fill_region_command(const LatticeFill& f, const std::string& name,
+                                        double z_lower_m) {
+  const auto n = deck_number;
+  if (f.cylinder_radius_m > 0.0)
+    return "region          " + name + " cylinder z 0 0 " + n(f.cylinder_radius_m) + " " +
+           n(z_lower_m) + " " + n(f.region.upper_m.z) + " units box\n";
+  return "region          " + name + " block " + n(f.region.lower_m.x) + " " +
+         n(f.region.upper_m.x) + " " + n(f.region.lower_m.y) + " " + n(f.region.upper_m.y) + " " +
+         n(z_lower_m) + " " + n(f.region.upper_m.z) + " units box\n";
 }
 
 void write_deck_files(const Deck& deck, const std::filesystem::path& directory) {

@@ -49,4 +49,12 @@ void write_deck_files(const Deck& deck, const std::filesystem::path& directory);
 // Locale-independent shortest round-trip text of a number, as decks print them.
 std::string deck_number(double value);
 
+struct LatticeFill;  // engines/apparatus_layout.hpp
+
+// The region a lattice fill's sites are created in, from z_lower_m to the
+// fill's top: its box, or the box's sites within its cylinder's radius. The
+// same command in LAMMPS and LIGGGHTS.
+std::string lattice_fill_region_command(const LatticeFill& fill, const std::string& name,
+                                        double z_lower_m);
+
 }  // namespace demcal::engines

@@ -172,20 +172,10 @@ DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
     s << "\n# insertion: jittered cubic lattice, " << f.layers << " layers of " << f.sites_per_layer
       << " sites, the top layer thinned to " << f.count << " particles\n"
       << "lattice         sc " << n(f.spacing_m) << " origin 0.5 0.5 0.5\n";
-    // A box, or the sites of the box within the cylinder's radius.
-    auto fill_region = [&](const std::string& name, double z_lower) {
-      if (f.cylinder_radius_m > 0.0)
-        s << "region          " << name << " cylinder z 0 0 " << n(f.cylinder_radius_m) << " "
-          << n(z_lower) << " " << n(f.region.upper_m.z) << " units box\n";
-      else
-        s << "region          " << name << " block " << n(f.region.lower_m.x) << " "
-          << n(f.region.upper_m.x) << " " << n(f.region.lower_m.y) << " " << n(f.region.upper_m.y)
-          << " " << n(z_lower) << " " << n(f.region.upper_m.z) << " units box\n";
-    };
-    fill_region("fill", f.region.lower_m.z);
+    s << lattice_fill_region_command(f, "fill", f.region.lower_m.z);
     s << "create_atoms    1 region fill\n";
     if (surplus > 0) {
-      fill_region("fill_top", f.region.upper_m.z - f.spacing_m);
+      s << lattice_fill_region_command(f, "fill_top", f.region.upper_m.z - f.spacing_m);
       s << "delete_atoms    porosity fill_top "
         << n(static_cast<double>(surplus) / static_cast<double>(f.sites_per_layer)) << " "
         << (l.seed % 900000000 + 2) << "\n";

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace demcal::engines {
 namespace {
@@ -56,44 +58,10 @@ void phase_loop(std::ostringstream& s, const std::string& phase, const std::stri
 
 }  // namespace
 
-std::string block_stl(const SolidBlock& b) {
-  const double x0 = b.lower_m.x, x1 = b.upper_m.x, y0 = b.lower_m.y, y1 = b.upper_m.y,
-               z0 = b.lower_m.z, z1 = b.upper_m.z;
-  struct P {
-    double x, y, z;
-  };
-  std::ostringstream s;
-  s << "solid " << b.name << "\n";
-  auto tri = [&](P a, P c, P d, P nrm) {
-    s << "  facet normal " << n(nrm.x) << " " << n(nrm.y) << " " << n(nrm.z)
-      << "\n    outer loop\n";
-    for (const P& p : {a, c, d})
-      s << "      vertex " << n(p.x) << " " << n(p.y) << " " << n(p.z) << "\n";
-    s << "    endloop\n  endfacet\n";
-  };
-  auto quad = [&](P a, P c, P d, P e, P nrm) {
-    tri(a, c, d, nrm);
-    tri(a, d, e, nrm);
-  };
-  quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1}, {0, 0, 1});   // top
-  quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}, {0, 0, -1});  // bottom
-  quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}, {-1, 0, 0});  // -x
-  quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}, {1, 0, 0});   // +x
-  s << "endsolid " << b.name << "\n";
-  return s.str();
-}
-
 DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   const auto mapped = map_to_liggghts(l.material, l.reduction, o.mapping);
   if (!mapped.ok()) return {std::nullopt, mapped.refusal};
   const LiggghtsMapping& m = *mapped.mapping;
-  if (!l.shells.empty() || !l.discs.empty() || !l.closing_discs.empty())
-    return {std::nullopt, "LIGGGHTS deck: cones, cylinders and discs (" + l.apparatus +
-                              ") are not written as STL meshes yet"};
-  if (!l.slanted_plates.empty())
-    return {std::nullopt, "LIGGGHTS deck: the sandglass's conical (hopper) bottom (" + l.apparatus +
-                              "): its slanted plates are not written as STL meshes yet; use "
-                              "bottom = \"flat\""};
   if (l.lattice && l.size_classes.size() > 1)
     return {std::nullopt, "LIGGGHTS deck: the lattice fill (" + l.apparatus +
                               ") is written for one diameter; a polydisperse lattice fill is "
@@ -104,7 +72,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   // Measured with LIGGGHTS 3.8 (Debian): mesh walls in a periodic slab fail an
   // assertion (region_neighbor_list_I.h:165) at setup when the slab is 5 d
   // thick and run at 6 d (d = 1 mm, skin 0.3 d).
-  const bool meshes = !l.blocks.empty() || !l.closing_blocks.empty() || !l.opened_blocks.empty();
+  const bool meshes = !l.blocks.empty() || !l.closing_blocks.empty() || !l.opened_blocks.empty() ||
+                      !l.slanted_plates.empty() || !l.shells.empty() || !l.discs.empty() ||
+                      !l.closing_discs.empty();
   for (int a = 0; a < 3; ++a) {
     const double extent = a == 0   ? l.box.upper_m.x - l.box.lower_m.x
                           : a == 1 ? l.box.upper_m.y - l.box.lower_m.y
@@ -168,29 +138,56 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   for (const auto& p : l.planes)
     s << "fix             wall_" << p.name << " all wall/gran " << model << " primitive type 2 "
       << kAxis[p.axis] << "plane " << n(p.position_m) << "\n";
-  auto mesh = [&](const SolidBlock& b) {
-    deck.files.emplace_back("mesh_" + b.name + ".stl", block_stl(b));
-    s << "fix             mesh_" << b.name << " all mesh/surface file mesh_" << b.name
+  // Curved walls as polygons whose facets stand within 2 % of the smallest
+  // diameter of the true surface.
+  double d_min = d_max;
+  for (const auto& [d, p] : l.size_classes) d_min = std::min(d_min, d);
+  const double sagitta = 0.02 * d_min;
+  auto mesh = [&](const std::string& name, std::string stl) {
+    deck.files.emplace_back("mesh_" + name + ".stl", std::move(stl));
+    s << "fix             mesh_" << name << " all mesh/surface file mesh_" << name
       << ".stl type 2\n";
+    return name;
   };
-  auto mesh_wall = [&](const std::string& name, const std::vector<const SolidBlock*>& bs) {
-    if (bs.empty()) return;
-    s << "fix             " << name << " all wall/gran " << model << " mesh n_meshes " << bs.size()
-      << " meshes";
-    for (const auto* b : bs) s << " mesh_" << b->name;
+  auto block_mesh = [&](const SolidBlock& b) { return mesh(b.name, block_stl(b)); };
+  auto disc_mesh = [&](const AxialDisc& d) {
+    return mesh(d.name, axial_disc_stl(d, polygon_segments(d.radius_m, sagitta)));
+  };
+  auto mesh_wall = [&](const std::string& name, const std::vector<std::string>& names) {
+    if (names.empty()) return;
+    s << "fix             " << name << " all wall/gran " << model << " mesh n_meshes "
+      << names.size() << " meshes";
+    for (const auto& m : names) s << " mesh_" << m;
     s << "\n";
   };
-  std::vector<const SolidBlock*> standing;
-  for (const auto& b : l.blocks) {
-    mesh(b);
-    standing.push_back(&b);
-  }
-  std::vector<const SolidBlock*> before = standing;
-  for (const auto& b : l.closing_blocks) {
-    mesh(b);
-    before.push_back(&b);
-  }
+  // Standing for the whole run: blocks, hopper plates, shells (grains inside
+  // or out: a mesh is met from either side) and discs.
+  std::vector<std::string> standing;
+  for (const auto& b : l.blocks) standing.push_back(block_mesh(b));
+  for (const auto& p : l.slanted_plates)
+    standing.push_back(mesh(p.name, slanted_plate_stl(p, l.box.lower_m.y, l.box.upper_m.y)));
+  for (const auto& sh : l.shells)
+    standing.push_back(
+        mesh(sh.name,
+             axial_shell_stl(
+                 sh, polygon_segments(std::max(sh.radius_lower_m, sh.radius_upper_m), sagitta))));
+  for (const auto& d : l.discs) standing.push_back(disc_mesh(d));
+  std::vector<std::string> before = standing;
+  for (const auto& b : l.closing_blocks) before.push_back(block_mesh(b));
+  for (const auto& d : l.closing_discs) before.push_back(disc_mesh(d));
   mesh_wall("wall_meshes", before);
+  // At opening the closing solids go, the opened ones come: one wall fix over
+  // the meshes that stay.
+  auto open_walls = [&](const std::string& why) {
+    if (l.closing_blocks.empty() && l.closing_discs.empty() && l.opened_blocks.empty()) return;
+    s << "\n# --- " << why << "\n";
+    if (!before.empty()) s << "unfix           wall_meshes\n";
+    for (const auto& b : l.closing_blocks) s << "unfix           mesh_" << b.name << "\n";
+    for (const auto& d : l.closing_discs) s << "unfix           mesh_" << d.name << "\n";
+    std::vector<std::string> after = standing;
+    for (const auto& b : l.opened_blocks) after.push_back(block_mesh(b));
+    mesh_wall("wall_meshes_open", after);
+  };
 
   s << "\nfix             integrate all nve/sphere\n"
     << "# demcal's rest rule: rms translational speed\n"
@@ -249,12 +246,10 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     s << "\n# insertion: jittered cubic lattice, " << f.layers << " layers of " << f.sites_per_layer
       << " sites, the top layer thinned to " << f.count << " particles\n"
       << "lattice         sc " << n(f.spacing_m) << " origin 0.5 0.5 0.5\n"
-      << "region          fill block " << box_words(f.region) << " units box\n"
+      << lattice_fill_region_command(f, "fill", f.region.lower_m.z)
       << "create_atoms    1 region fill\n";
     if (surplus > 0) {
-      BoxRegion topl = f.region;
-      topl.lower_m.z = f.region.upper_m.z - f.spacing_m;
-      s << "region          fill_top block " << box_words(topl) << " units box\n"
+      s << lattice_fill_region_command(f, "fill_top", f.region.upper_m.z - f.spacing_m)
         << "delete_atoms    porosity fill_top "
         << n(static_cast<double>(surplus) / static_cast<double>(f.sites_per_layer)) << " "
         << prime_seed(l.seed, 4) << "\n";
@@ -267,20 +262,22 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
                l.protocol.max_settle_s, l);
   }
 
+  if (l.release) {
+    open_walls("open the outlet: the material falls onto the plate");
+    phase_loop(s, "pour", "v_rms_speed<" + n(l.protocol.rest_speed_m_s), l.protocol.max_flow_s, l);
+  }
+
   if (l.discharge) {
     const long sample = steps_for(l.protocol.sample_interval_s, l.time_step_s);
     const long stall = steps_for(l.protocol.stall_time_s, l.time_step_s);
     const long chunks =
         std::max(1L, static_cast<long>(std::ceil(l.protocol.max_flow_s / l.protocol.stall_time_s)));
-    s << "\n# --- open the orifice: the shut plate goes, the plate with the opening comes\n"
-      << "unfix           wall_meshes\n";
-    for (const auto& b : l.closing_blocks) s << "unfix           mesh_" << b.name << "\n";
-    std::vector<const SolidBlock*> after = standing;
-    for (const auto& b : l.opened_blocks) {
-      mesh(b);
-      after.push_back(&b);
-    }
-    mesh_wall("wall_meshes_open", after);
+    s << "\n# the settled fill, for demcal's bulk density\n"
+      << "dump            fill all custom 1 " << o.fill_dump_name << " id type x y z radius\n"
+      << "dump_modify     fill sort id\n"
+      << "run             0\n"
+      << "undump          fill\n";
+    open_walls("open the orifice: the shut plate goes, the plate with the opening comes");
     s << "region          upper_chamber block " << box_words(l.upper_chamber) << " units box\n"
       << "variable        t_open equal time\n"
       << "variable        t_open_s equal ${t_open}\n"
@@ -320,7 +317,10 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   deck.script_name = o.script_name;
   deck.script = s.str();
   deck.final_dump_name = o.final_dump_name;
-  if (l.discharge) deck.mass_series_name = o.mass_series_name;
+  if (l.discharge) {
+    deck.mass_series_name = o.mass_series_name;
+    deck.fill_dump_name = o.fill_dump_name;
+  }
   deck.record = {{"engine", "liggghts"},
                  {"mapping", m.to_json()},
                  {"layout", l.to_json()},

@@ -124,13 +124,25 @@ TEST(EnginesDecks, RefusalsNameWhatIsMissing) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.refusal.find("full (3D) sandglass"), std::string::npos) << r.refusal;
 
-  // The hopper bottom is written for LAMMPS (test_engines_effects.cpp), not LIGGGHTS.
+  // LIGGGHTS takes the hopper's slanted plates and the conical pile's funnel as
+  // STL meshes (engines/stl_mesh.hpp): one mesh per solid, the funnel's outlet
+  // disc unfixed when the material is let go.
   auto cone = sandglass_slice(6.0);
   cone.bottom = "conical";
-  EXPECT_NE(write_liggghts_deck(cone, m, p).refusal.find("slanted plates"), std::string::npos);
-
-  EXPECT_NE(write_liggghts_deck(dem::ConicalPileOptions{}, m, p).refusal.find("STL meshes yet"),
-            std::string::npos);
+  const auto hopper = write_liggghts_deck(cone, m, p);
+  ASSERT_TRUE(hopper.ok()) << hopper.refusal;
+  int plates = 0;
+  for (const auto& [name, text] : hopper.deck->files)
+    plates +=
+        name.find("hopper") != std::string::npos && text.find("endsolid") != std::string::npos;
+  EXPECT_EQ(plates, 2);
+  const auto funnel = write_liggghts_deck(dem::ConicalPileOptions{}, m, p);
+  ASSERT_TRUE(funnel.ok()) << funnel.refusal;
+  const std::string& fs = funnel.deck->script;
+  const auto let_go = fs.find("# --- open the outlet");
+  ASSERT_NE(let_go, std::string::npos) << fs;
+  EXPECT_NE(fs.find("unfix           mesh_", let_go), std::string::npos) << fs;
+  EXPECT_NE(fs.find("fix             wall_meshes_open", let_go), std::string::npos) << fs;
   dem::ConicalPileOptions slice;
   slice.reduction.slice = true;
   EXPECT_NE(write_lammps_deck(slice, m, p).refusal.find("V-shaped funnel"), std::string::npos);

@@ -1,12 +1,14 @@
-// The full (3D) sandglass on LAMMPS split over two MPI ranks, as a cluster runs
-// it (issue 17), against demcal's own run of the same apparatus: the fill
+// The full (3D) sandglass on LAMMPS (region primitives) and on LIGGGHTS (STL
+// meshes, engines/stl_mesh.hpp), each split over two MPI ranks as a cluster
+// runs it (issue 17), against demcal's own run of the same apparatus: the fill
 // settles, the shut orifice goes, the hopper empties, the pile below is
 // measured by demcal's conical AoR code. Labelled `engine`; skipped, with the
-// reason, when LAMMPS (lmp) is not installed; on one rank when mpirun is not.
+// reason, when the engine is not installed; on one rank when mpirun is not.
 #include "dem/apparatus/sandglass.hpp"
 #include "engines/engine_measure.hpp"
 #include "engines/engine_run.hpp"
 #include "engines/lammps_deck.hpp"
+#include "engines/liggghts_deck.hpp"
 #include "tests/support/engine_fixtures.hpp"
 #include "tests/support/test_files.hpp"
 
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <ostream>
 #include <string>
 
 namespace demcal::engines {
@@ -22,30 +25,53 @@ namespace {
 
 std::string first_word(const std::string& s) { return s.substr(0, s.find(' ')); }
 
-// DEMCAL_LAMMPS overrides; otherwise two ranks when mpirun is there.
-std::string two_rank_command() {
-  const char* v = std::getenv("DEMCAL_LAMMPS");
-  if (v != nullptr && *v != '\0') return v;
-  if (executable_available("mpirun")) return "mpirun --allow-run-as-root --oversubscribe -np 2 lmp";
-  std::cout << "mpirun not found: LAMMPS runs on one rank\n";
-  return "lmp";
+struct FullSandglassEngine {
+  const char* name;         // "lammps"
+  const char* executable;   // "lmp"
+  const char* environment;  // "DEMCAL_LAMMPS": overrides the launch line
+  const char* package;      // the Debian package that installs it
+  DeckResult (*write)(const dem::SandglassOptions&, const dem::GranularMaterial&,
+                      const dem::RunProtocol&, const DeckOptions&);
+};
+
+DeckResult write_lammps(const dem::SandglassOptions& s, const dem::GranularMaterial& m,
+                        const dem::RunProtocol& p, const DeckOptions& o) {
+  return write_lammps_deck(s, m, p, o);
+}
+DeckResult write_liggghts(const dem::SandglassOptions& s, const dem::GranularMaterial& m,
+                          const dem::RunProtocol& p, const DeckOptions& o) {
+  return write_liggghts_deck(s, m, p, o);
 }
 
-TEST(EngineLammpsFullSandglass, EmptiesOnTwoRanksAsDemcalsOwnRunDoes) {
-  if (!executable_available("lmp"))
-    GTEST_SKIP() << "LAMMPS not installed: \"lmp\" is not on PATH (apt-get install lammps, or "
-                    "set DEMCAL_LAMMPS)";
-  const std::string command = two_rank_command();
+// The environment variable overrides; otherwise two ranks when mpirun is there.
+std::string two_rank_command(const FullSandglassEngine& e) {
+  const char* v = std::getenv(e.environment);
+  if (v != nullptr && *v != '\0') return v;
+  if (executable_available("mpirun"))
+    return std::string("mpirun --allow-run-as-root --oversubscribe -np 2 ") + e.executable;
+  std::cout << "mpirun not found: " << e.name << " runs on one rank\n";
+  return e.executable;
+}
+
+class EngineFullSandglass : public ::testing::TestWithParam<FullSandglassEngine> {};
+
+TEST_P(EngineFullSandglass, EmptiesOnTwoRanksAsDemcalsOwnRunDoes) {
+  const FullSandglassEngine& e = GetParam();
+  if (!executable_available(e.executable))
+    GTEST_SKIP() << e.name << " not installed: \"" << e.executable
+                 << "\" is not on PATH (apt-get install " << e.package << ", or set "
+                 << e.environment << ")";
+  const std::string command = two_rank_command(e);
   if (!executable_available(first_word(command)))
-    GTEST_SKIP() << "\"" << first_word(command) << "\" (DEMCAL_LAMMPS) is not on PATH";
+    GTEST_SKIP() << "\"" << first_word(command) << "\" (" << e.environment << ") is not on PATH";
   // tests/unit/test_engines_full_sandglass.cpp's apparatus with a smaller fill.
   const dem::SandglassOptions s = testing::small_full_sandglass(0.002);
   dem::RunProtocol protocol;
   protocol.max_flow_s = 2.0;
   const auto material = testing::peer_material();
-  const DeckResult deck = write_lammps_deck(s, material, protocol);
+  const DeckResult deck = e.write(s, material, protocol, DeckOptions{});
   ASSERT_TRUE(deck.ok()) << deck.refusal;
-  const auto dir = testing::fresh_dir("engine", "lammps-full-sandglass");
+  const auto dir = testing::fresh_dir("engine", std::string(e.name) + "-full-sandglass");
   EngineLaunch launch;
   launch.command = command;
   const EngineRunResult run = run_engine(*deck.deck, launch, dir);
@@ -54,8 +80,8 @@ TEST(EngineLammpsFullSandglass, EmptiesOnTwoRanksAsDemcalsOwnRunDoes) {
   const dem::ApparatusResult mine = own.run({});
 
   const double fraction = theirs.details["discharge"]["discharged_fraction"].get<double>();
-  std::cout << "full sandglass, " << theirs.details["particles"] << " grains, \"" << command
-            << "\" (" << run.wall_time_s << " s): discharge time "
+  std::cout << e.name << ", full sandglass, " << theirs.details["particles"] << " grains, \""
+            << command << "\" (" << run.wall_time_s << " s): discharge time "
             << theirs.observables["discharge_time_s"] << " s (demcal "
             << mine.observables["discharge_time_s"] << "), " << 100.0 * fraction
             << " % discharged; bulk density " << theirs.observables["bulk_density_kg_m3"]
@@ -82,6 +108,15 @@ TEST(EngineLammpsFullSandglass, EmptiesOnTwoRanksAsDemcalsOwnRunDoes) {
   EXPECT_GT(theirs.observables["angle_of_repose_deg"].get<double>(), 10.0);
   EXPECT_LT(theirs.observables["angle_of_repose_deg"].get<double>(), 40.0);
 }
+
+// Printed by its name: the test's name in ctest (".../lammps", ".../liggghts").
+void PrintTo(const FullSandglassEngine& e, std::ostream* os) { *os << e.name; }
+
+INSTANTIATE_TEST_SUITE_P(
+    BothEngines, EngineFullSandglass,
+    ::testing::Values(FullSandglassEngine{"lammps", "lmp", "DEMCAL_LAMMPS", "lammps", write_lammps},
+                      FullSandglassEngine{"liggghts", "liggghts", "DEMCAL_LIGGGHTS", "liggghts",
+                                          write_liggghts}));
 
 }  // namespace
 }  // namespace demcal::engines
