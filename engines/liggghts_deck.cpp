@@ -62,10 +62,6 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   const auto mapped = map_to_liggghts(l.material, l.reduction, o.mapping);
   if (!mapped.ok()) return {std::nullopt, mapped.refusal};
   const LiggghtsMapping& m = *mapped.mapping;
-  if (l.lattice && l.size_classes.size() > 1)
-    return {std::nullopt, "LIGGGHTS deck: the lattice fill (" + l.apparatus +
-                              ") is written for one diameter; a polydisperse lattice fill is "
-                              "written for LAMMPS only"};
   const std::string model = m.model_words();
   double d_max = 0.0;
   for (const auto& [d, p] : l.size_classes) d_max = std::max(d_max, d);
@@ -98,7 +94,24 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "# demcal contact law: normal " << l.material.contact.normal << ", tangential "
     << l.material.contact.tangential << ", rolling " << l.material.contact.rolling << "\n";
   for (const auto& a : m.approximations) s << "# approximation: " << a << "\n";
-  auto pair2 = [](double a, double b) { return n(a) + " " + n(b) + " " + n(b) + " " + n(b); };
+  // Type 1 grains, type 2 walls. A polydisperse lattice fill gives size class c
+  // >= 1 the type c + 2 for the moment it takes to set the diameters; every
+  // material table covers those types (as grains) though no force ever sees them.
+  const bool class_types = l.lattice && l.size_classes.size() > 1;
+  const std::size_t types = class_types ? l.size_classes.size() + 1 : 2;
+  auto type_of_class = [](std::size_t c) { return c == 0 ? std::size_t{1} : c + 2; };
+  auto per_type = [&](double grain, double wall) {
+    std::ostringstream v;
+    for (std::size_t t = 1; t <= types; ++t) v << (t == 1 ? "" : " ") << n(t == 2 ? wall : grain);
+    return v.str();
+  };
+  auto per_pair = [&](double pp, double pw) {
+    std::ostringstream v;
+    v << types;
+    for (std::size_t a = 1; a <= types; ++a)
+      for (std::size_t b = 1; b <= types; ++b) v << " " << n(a == 2 || b == 2 ? pw : pp);
+    return v.str();
+  };
   s << "\natom_style      granular\n"
     << "boundary        " << (l.periodic[0] ? "p" : "f") << " " << (l.periodic[1] ? "p" : "f")
     << " " << (l.periodic[2] ? "p" : "f") << "\n"
@@ -106,29 +119,29 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "communicate     single vel yes\n"
     << "units           si\n"
     << "region          box block " << box_words(l.box) << " units box\n"
-    << "create_box      2 box\n"
+    << "create_box      " << types << " box\n"
     << "neighbor        " << n(o.skin_fraction_of_diameter * d_max) << " bin\n"
     << "neigh_modify    delay 0\n\n";
   // LIGGGHTS refuses a modulus above 1 GPa in SI units unless told (glass and
   // steel walls are harder than that).
   if (std::max(m.particle_youngs_modulus_pa, m.wall_youngs_modulus_pa) > 1e9)
     s << "hard_particles  yes\n";
-  s << "# materials: type 1 grains, type 2 walls (mapped from demcal's, see the header)\n"
+  s << "# materials: type 1 grains, type 2 walls (mapped from demcal's, see the header)"
+    << (class_types ? "; types 3.. the fill's size classes until they are reset to 1" : "") << "\n"
     << "fix             m1 all property/global youngsModulus peratomtype "
-    << n(m.particle_youngs_modulus_pa) << " " << n(m.wall_youngs_modulus_pa) << "\n"
+    << per_type(m.particle_youngs_modulus_pa, m.wall_youngs_modulus_pa) << "\n"
     << "fix             m2 all property/global poissonsRatio peratomtype "
-    << n(m.particle_poisson_ratio) << " " << n(m.wall_poisson_ratio) << "\n"
-    << "fix             m3 all property/global coefficientRestitution peratomtypepair 2 "
-    << pair2(m.particle_particle.restitution, m.particle_wall.restitution) << "\n"
-    << "fix             m4 all property/global coefficientFriction peratomtypepair 2 "
-    << pair2(m.particle_particle.sliding_friction, m.particle_wall.sliding_friction) << "\n";
+    << per_type(m.particle_poisson_ratio, m.wall_poisson_ratio) << "\n"
+    << "fix             m3 all property/global coefficientRestitution peratomtypepair "
+    << per_pair(m.particle_particle.restitution, m.particle_wall.restitution) << "\n"
+    << "fix             m4 all property/global coefficientFriction peratomtypepair "
+    << per_pair(m.particle_particle.sliding_friction, m.particle_wall.sliding_friction) << "\n";
   if (m.rolling_model != "off")
-    s << "fix             m5 all property/global coefficientRollingFriction peratomtypepair 2 "
-      << pair2(m.particle_particle.rolling_friction, m.particle_wall.rolling_friction) << "\n";
+    s << "fix             m5 all property/global coefficientRollingFriction peratomtypepair "
+      << per_pair(m.particle_particle.rolling_friction, m.particle_wall.rolling_friction) << "\n";
   if (m.rolling_model == "epsd")
     s << "fix             m6 all property/global coefficientRollingViscousDamping peratomtypepair "
-         "2 "
-      << pair2(m.particle_particle.rolling_damping_ratio, m.particle_wall.rolling_damping_ratio)
+      << per_pair(m.particle_particle.rolling_damping_ratio, m.particle_wall.rolling_damping_ratio)
       << "\n";
   s << "pair_style      gran " << m.pair_style_words() << "\n"
     << "pair_coeff      * *\n"
@@ -254,8 +267,29 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
         << n(static_cast<double>(surplus) / static_cast<double>(f.sites_per_layer)) << " "
         << prime_seed(l.seed, 4) << "\n";
     }
-    s << "set             type 1 diameter " << n(l.size_classes[0].first) << "\n"
-      << "set             type 1 density " << n(l.density_kg_m3) << "\n"
+    if (class_types) {
+      // As the LAMMPS deck's fill, with LIGGGHTS 3.8's type/fraction (each site
+      // drawn with the class's probability: the class counts are binomial, not
+      // exact; LAMMPS's type/ratio came later).
+      const std::size_t k = l.size_classes.size();
+      s << "# polydisperse fill: " << k
+        << " equal-number size classes (each its class's mean d^3), each site drawn into a "
+           "class with its number fraction\n";
+      double tail = 1.0;  // the number fraction still of type 1
+      for (std::size_t c = k - 1; c >= 1; --c) {
+        s << "set             type 1 type/fraction " << type_of_class(c) << " "
+          << n(l.size_classes[c].second / tail) << " " << prime_seed(l.seed, 20 + c) << "\n";
+        tail -= l.size_classes[c].second;
+      }
+      for (std::size_t c = 0; c < k; ++c)
+        s << "set             type " << type_of_class(c) << " diameter "
+          << n(l.size_classes[c].first) << "\n";
+      for (std::size_t c = 1; c < k; ++c)
+        s << "set             type " << type_of_class(c) << " type 1\n";
+    } else {
+      s << "set             type 1 diameter " << n(l.size_classes[0].first) << "\n";
+    }
+    s << "set             type 1 density " << n(l.density_kg_m3) << "\n"
       << "displace_atoms  all random " << n(f.jitter_m) << " " << n(f.jitter_m) << " "
       << n(f.jitter_m) << " " << prime_seed(l.seed, 5) << " units box\n";
     phase_loop(s, "fill", "(step>0)*(v_rms_speed<" + n(l.protocol.rest_speed_m_s) + ")",

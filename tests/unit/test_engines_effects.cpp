@@ -17,6 +17,7 @@
 #include <cmath>
 #include <numbers>
 #include <regex>
+#include <set>
 #include <string>
 
 namespace demcal::engines {
@@ -348,10 +349,40 @@ TEST(EnginesEffects, LiggghtsStillRefusesTheEffects) {
   auto drag = peer_material();
   drag.air_drag = dem::AirProperties{};
   EXPECT_NE(write_liggghts_deck(six, drag, p).refusal.find("air drag"), std::string::npos);
+}
+
+// LIGGGHTS 3.8 has no set type/ratio: its polydisperse lattice fill draws each
+// site into a size class with type/fraction (the shares, applied in turn to
+// what is still type 1, give every class its number fraction), uses types 3..
+// for the classes (type 2 is the walls), gives every material table those
+// types as grains, and resets them to 1 before anything runs.
+TEST(EnginesEffects, LiggghtsPolydisperseLatticeFill) {
+  auto six = small_slice();
+  // Six of the largest diameters, LIGGGHTS's least periodic mesh slab.
+  six.reduction.slice_thickness_diameters = 8.0;
   auto poly = peer_material();
   poly.sizes = dem::make_uniform(0.8e-3, 1.2e-3);
-  EXPECT_NE(write_liggghts_deck(six, poly, p).refusal.find("polydisperse lattice fill"),
-            std::string::npos);
+  const auto r = write_liggghts_deck(six, poly, dem::RunProtocol{});
+  ASSERT_TRUE(r.ok()) << r.refusal;
+  const std::string& s = r.deck->script;
+  EXPECT_NE(s.find("create_box      9 box"), std::string::npos);
+  const std::regex fraction("type/fraction ([0-9]+) ([0-9.e-]+) ");
+  double left = 1.0;
+  std::set<int> types;
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), fraction); it != std::sregex_iterator();
+       ++it) {
+    types.insert(std::stoi((*it)[1]));
+    const double share = std::stod((*it)[2]);
+    EXPECT_NEAR(left * share, 1.0 / 8.0, 1e-12);
+    left -= left * share;
+  }
+  EXPECT_EQ(types, (std::set<int>{3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_NEAR(left, 1.0 / 8.0, 1e-12);
+  for (int t = 3; t <= 9; ++t)
+    EXPECT_NE(s.find("set             type " + std::to_string(t) + " type 1"), std::string::npos);
+  // 9 x 9 pairs: the walls' column and row carry the particle-wall friction.
+  EXPECT_NE(s.find("coefficientFriction peratomtypepair 9 0.5 0.9 0.5"), std::string::npos) << s;
+  EXPECT_LT(s.find("type 9 type 1"), s.find("\nrun "));
 }
 
 }  // namespace
