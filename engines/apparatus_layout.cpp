@@ -158,6 +158,16 @@ nlohmann::json ApparatusLayout::to_json() const {
   };
   j["discs"] = discs_json(discs);
   j["closing_discs"] = discs_json(closing_discs);
+  // Absent when there are none: the records of the older layouts stay as they were.
+  if (!annuli.empty()) {
+    j["annuli"] = nlohmann::json::array();
+    for (const auto& a : annuli)
+      j["annuli"].push_back({{"name", a.name},
+                             {"inner_radius_m", a.inner_radius_m},
+                             {"outer_radius_m", a.outer_radius_m},
+                             {"z_lower_m", a.z_lower_m},
+                             {"z_upper_m", a.z_upper_m}});
+  }
   if (lattice)
     j["lattice_fill"] = {
         {"region", box_json(lattice->region)}, {"cylinder_radius_m", lattice->cylinder_radius_m},
@@ -336,31 +346,41 @@ nlohmann::json sandglass_measurement(const ApparatusLayout& l, const dem::Sandgl
   return m;
 }
 
-// The full (3D) sandglass with its conical hopper, as dem::Sandglass builds it:
-// the floor, the lower chamber's cylinder up to the orifice plane, the hopper's
-// cone from the orifice up to the upper chamber's cylinder; the shut orifice
-// is a disc under the cone's outlet, removed at opening. The orifice plate
-// outside the outlet (the lower chamber's ceiling) is not written: with the
-// cone ending at the outlet it is touched only by a lower pile grown up to the
-// orifice plane, and the layout's approximations say so.
+// The full (3D) sandglass as dem::Sandglass builds it: the floor, the lower
+// chamber's cylinder up to the orifice plane, the orifice plate (a plate with a
+// circular hole out to the wider chamber's radius), the hopper's cone from the
+// orifice up to the upper chamber's cylinder when the bottom is conical; the
+// shut orifice is a disc under the hole, removed at opening. With a hopper the
+// plate outside the cone's outlet is the lower chamber's ceiling, touched only
+// by a lower pile grown up to the orifice plane: an engine without a plate
+// with a hole may leave it out, saying so. With a flat bottom the fill rests on
+// it: it must be written.
 LayoutResult layout_full_sandglass(const dem::SandglassOptions& o,
                                    const dem::GranularMaterial& material,
                                    const dem::RunProtocol& protocol, ApparatusLayout l,
                                    const dem::SizeDistribution& sizes, const SandglassGeometry& g) {
   const double d = g.d, d_max = g.d_max, ru = g.ru, rl = g.rl, r0 = g.r0, zo = g.zo;
   const double cone_h = g.cone_h, zc = g.zc, top = g.top, margin = g.margin, plate = g.wall;
+  const bool conical = o.bottom == "conical";
   l.variant = "full";
-  l.box = {{-rl - margin, -rl - margin, -margin}, {rl + margin, rl + margin, top + margin}};
+  const double r_box = std::max(rl, ru);
+  l.box = {{-r_box - margin, -r_box - margin, -margin},
+           {r_box + margin, r_box + margin, top + margin}};
   l.periodic = {false, false, false};
   l.planes = {{"floor", 2, 0.0, 1}};
-  l.shells = {
-      {"lower_wall", rl, rl, 0.0, zo}, {"hopper", r0, ru, zo, zc}, {"upper_wall", ru, ru, zc, top}};
+  l.shells = {{"lower_wall", rl, rl, 0.0, zo}};
+  if (conical) l.shells.push_back({"hopper", r0, ru, zo, zc});
+  l.shells.push_back({"upper_wall", ru, ru, zc, top});
   l.closing_discs = {{"orifice_shut", r0 + plate, zo - plate, zo}};
-  std::ostringstream ceiling;
-  ceiling << "the orifice plate outside the hopper's outlet (the lower chamber's ceiling, radius "
-          << r0 << " to " << rl << " m at z = " << zo
-          << " m) is not a wall: only a lower pile grown up to the orifice plane touches it";
-  l.approximations = {ceiling.str()};
+  std::string left_out;
+  if (conical) {
+    std::ostringstream ceiling;
+    ceiling << "the orifice plate outside the hopper's outlet (the lower chamber's ceiling, radius "
+            << r0 << " to " << rl << " m at z = " << zo
+            << " m) is not a wall: only a lower pile grown up to the orifice plane touches it";
+    left_out = ceiling.str();
+  }
+  l.annuli = {{"orifice_plate", r0, r_box, zo - plate, zo, left_out}};
 
   const double a = o.fill_lattice_spacing_diameters * d_max;
   // A site's grain stays off the chamber wall.
@@ -395,11 +415,6 @@ LayoutResult layout_sandglass(const dem::SandglassOptions& options,
   o.validate();
   if (!material.sizes)
     throw std::invalid_argument("sandglass: the material has no size distribution");
-  if (!o.reduction.slice && o.bottom != "conical")
-    return {std::nullopt,
-            "sandglass: the full (3D) sandglass with a flat bottom is not written as deck "
-            "primitives yet (its plate with a circular hole); use bottom = \"conical\" or the "
-            "slice (reduction.slice)"};
   // A polydisperse fill: the lattice is spaced for the largest diameter, and the
   // deck gives its sites the size classes' diameters at random (lammps_deck.cpp).
   auto sizes = dem::scaled_sizes(material.sizes, o.reduction.coarse_graining_factor);

@@ -73,6 +73,20 @@ struct AxialDisc {
   double z_upper_m = 0.0;
 };
 
+// A solid plate about the same axis with a circular hole through it (the 3D
+// sandglass's orifice plate); grains stay outside it: above, below and in the
+// hole. An engine whose primitives cannot express it may leave it out only when
+// `if_left_out` says what that changes (stated as an approximation); with
+// `if_left_out` empty it must refuse the layout.
+struct AxialAnnulus {
+  std::string name;
+  double inner_radius_m = 0.0;
+  double outer_radius_m = 0.0;
+  double z_lower_m = 0.0;
+  double z_upper_m = 0.0;
+  std::string if_left_out;
+};
+
 struct BoxRegion {
   dem::Vec3 lower_m;
   dem::Vec3 upper_m;
@@ -112,6 +126,7 @@ struct ApparatusLayout {
   std::vector<AxialShell> shells;            // funnels and cylinders, for the whole run
   std::vector<AxialDisc> discs;              // for the whole run
   std::vector<AxialDisc> closing_discs;      // the shut outlet: removed at opening
+  std::vector<AxialAnnulus> annuli;          // plates with a hole, for the whole run
   std::optional<PourInlet> pour;
   std::optional<LatticeFill> lattice;
   std::size_t particles = 0;

@@ -52,7 +52,21 @@ void phase_loop(std::ostringstream& s, const std::string& phase, const std::stri
 
 }  // namespace
 
-DeckResult write_lammps_deck(const ApparatusLayout& l, const DeckOptions& o) {
+DeckResult write_lammps_deck(const ApparatusLayout& layout, const DeckOptions& o) {
+  // A plate with a circular hole is no region primitive here (and a union or
+  // intersect region as one wall gave NaNs in this version): left out where the
+  // layout says what that changes, refused where it carries the fill.
+  ApparatusLayout l = layout;
+  for (const auto& a : layout.annuli) {
+    if (a.if_left_out.empty())
+      return {std::nullopt,
+              "LAMMPS deck: the " + layout.apparatus + "'s " + a.name +
+                  " (a plate with a circular hole) is not written as region primitives; for the "
+                  "full (3D) sandglass with a flat bottom use bottom = \"conical\", the slice "
+                  "(reduction.slice), or engine.kind = \"liggghts\" (STL meshes)"};
+    l.approximations.push_back(a.if_left_out);
+  }
+  l.annuli.clear();
   const auto mapped = map_to_lammps(l.material, l.reduction, o.mapping);
   if (!mapped.ok()) return {std::nullopt, mapped.refusal};
   const LammpsMapping& map = *mapped.mapping;

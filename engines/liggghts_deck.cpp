@@ -70,7 +70,7 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
   // thick and run at 6 d (d = 1 mm, skin 0.3 d).
   const bool meshes = !l.blocks.empty() || !l.closing_blocks.empty() || !l.opened_blocks.empty() ||
                       !l.slanted_plates.empty() || !l.shells.empty() || !l.discs.empty() ||
-                      !l.closing_discs.empty();
+                      !l.closing_discs.empty() || !l.annuli.empty();
   for (int a = 0; a < 3; ++a) {
     const double extent = a == 0   ? l.box.upper_m.x - l.box.lower_m.x
                           : a == 1 ? l.box.upper_m.y - l.box.lower_m.y
@@ -185,6 +185,9 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
              axial_shell_stl(
                  sh, polygon_segments(std::max(sh.radius_lower_m, sh.radius_upper_m), sagitta))));
   for (const auto& d : l.discs) standing.push_back(disc_mesh(d));
+  for (const auto& a : l.annuli)
+    standing.push_back(
+        mesh(a.name, axial_annulus_stl(a, polygon_segments(a.outer_radius_m, sagitta))));
   std::vector<std::string> before = standing;
   for (const auto& b : l.closing_blocks) before.push_back(block_mesh(b));
   for (const auto& d : l.closing_discs) before.push_back(disc_mesh(d));

@@ -111,6 +111,22 @@ std::string axial_disc_stl(const AxialDisc& d, int segments) {
   return s.finish(d.name);
 }
 
+std::string axial_annulus_stl(const AxialAnnulus& a, int segments) {
+  StlSolid s(a.name);
+  const double ri = a.inner_radius_m, ro = a.outer_radius_m, z0 = a.z_lower_m, z1 = a.z_upper_m;
+  for (int i = 0; i < segments; ++i) {
+    const Point ti0 = on_circle(ri, z1, i, segments), ti1 = on_circle(ri, z1, i + 1, segments);
+    const Point to0 = on_circle(ro, z1, i, segments), to1 = on_circle(ro, z1, i + 1, segments);
+    const Point bi0 = on_circle(ri, z0, i, segments), bi1 = on_circle(ri, z0, i + 1, segments);
+    const Point bo0 = on_circle(ro, z0, i, segments), bo1 = on_circle(ro, z0, i + 1, segments);
+    s.quad(ti0, to0, to1, ti1);  // top ring, +z
+    s.quad(bi0, bi1, bo1, bo0);  // bottom ring, -z
+    s.quad(bo0, bo1, to1, to0);  // outer rim, away from the axis
+    s.quad(bi0, ti0, ti1, bi1);  // the hole's wall, towards the axis
+  }
+  return s.finish(a.name);
+}
+
 int polygon_segments(double radius_m, double max_sagitta_m) {
   if (!(radius_m > 0.0) || !(max_sagitta_m > 0.0) || max_sagitta_m >= radius_m) return 24;
   const double half_angle = std::acos(1.0 - max_sagitta_m / radius_m);

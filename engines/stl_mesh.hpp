@@ -26,6 +26,10 @@ std::string axial_shell_stl(const AxialShell& shell, int segments);
 // A closed disc about the z axis: its top and bottom faces and its rim.
 std::string axial_disc_stl(const AxialDisc& disc, int segments);
 
+// A plate with a circular hole about the z axis, closed: its top and bottom
+// rings, the hole's wall and the outer rim.
+std::string axial_annulus_stl(const AxialAnnulus& annulus, int segments);
+
 // The number of sides of a polygon inscribed in a circle of this radius whose
 // sagitta r (1 - cos(pi / N)) stays within max_sagitta_m; at least 24.
 int polygon_segments(double radius_m, double max_sagitta_m);

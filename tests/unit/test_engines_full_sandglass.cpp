@@ -92,17 +92,31 @@ TEST(EnginesFullSandglass, RefusedWhereNoPrimitiveIsWritten) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.refusal.find("flat bottom"), std::string::npos) << r.refusal;
   EXPECT_NE(r.refusal.find("bottom = \"conical\""), std::string::npos) << r.refusal;
-  // LIGGGHTS writes the same solids as STL meshes: the two cylinders, the cone
-  // and the shut orifice's disc, which goes after the fill has settled.
+  // LIGGGHTS writes the same solids as STL meshes: the two cylinders, the cone,
+  // the orifice plate with its hole (so nothing is left out) and the shut
+  // orifice's disc, which goes after the fill has settled.
   const auto liggghts = write_liggghts_deck(full_sandglass(), m, p);
   ASSERT_TRUE(liggghts.ok()) << liggghts.refusal;
-  EXPECT_EQ(liggghts.deck->files.size(), 4u);
+  EXPECT_EQ(liggghts.deck->files.size(), 5u);
   testing::expect_golden(liggghts.deck->script, "engines/liggghts_sandglass_full.in");
   const std::string& ls = liggghts.deck->script;
   const auto settled = ls.find("# the settled fill");
   ASSERT_NE(settled, std::string::npos);
   EXPECT_GT(ls.find("unfix           mesh_orifice_shut"), settled);
   EXPECT_LT(ls.find("fix             mesh_orifice_shut"), settled);
+  EXPECT_EQ(ls.find("# approximation (geometry)"), std::string::npos);
+  EXPECT_NE(ls.find("mesh_orifice_plate", settled), std::string::npos);  // stays after opening
+  // And the flat bottom, whose fill rests on the plate: the plate and the
+  // chambers' cylinders, no cone.
+  const auto flat_liggghts = write_liggghts_deck(flat, m, p);
+  ASSERT_TRUE(flat_liggghts.ok()) << flat_liggghts.refusal;
+  testing::expect_golden(flat_liggghts.deck->script, "engines/liggghts_sandglass_full_flat.in");
+  const auto& fl = flat_liggghts.deck->record["layout"];
+  ASSERT_EQ(fl["shells"].size(), 2u);
+  ASSERT_EQ(fl["annuli"].size(), 1u);
+  EXPECT_DOUBLE_EQ(fl["annuli"][0]["inner_radius_m"].get<double>(), 0.004);
+  EXPECT_DOUBLE_EQ(fl["annuli"][0]["z_upper_m"].get<double>(), 0.03);
+  EXPECT_DOUBLE_EQ(fl["shells"][1]["z_lower_m"].get<double>(), 0.03);  // the chamber from the plate
   // A fill the chamber cannot hold is an error naming the keys to change, as in demcal.
   auto heavy = full_sandglass();
   heavy.fill_mass_kg = 0.1;
