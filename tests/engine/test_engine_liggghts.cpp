@@ -1,14 +1,18 @@
 // Runs LIGGGHTS on demcal's deck of the small poured slab pile and measures
-// the pile with demcal's own angle-of-repose code. Labelled `engine`; skipped,
-// with the reason, when LIGGGHTS is not installed.
+// the pile with demcal's own angle-of-repose code, and on the Sandglass slice
+// with its hopper (slanted plates as STL meshes) against demcal's own run.
+// Labelled `engine`; skipped, with the reason, when LIGGGHTS is not installed.
+#include "dem/apparatus/sandglass.hpp"
 #include "engines/engine_measure.hpp"
 #include "engines/engine_run.hpp"
 #include "engines/liggghts_deck.hpp"
+#include "tests/support/engine_fixtures.hpp"
 #include "tests/support/test_files.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <iostream>
 #include <string>
 
 namespace demcal::engines {
@@ -44,6 +48,57 @@ TEST(EngineLiggghts, SmallPouredPileHasASensibleAngleOfRepose) {
   EXPECT_GT(aor, 10.0);
   EXPECT_LT(aor, 35.0);
   EXPECT_EQ(r.details["particles"].get<std::size_t>(), pile.particles);
+}
+
+// The hopper's two slanted plates as STL meshes: the grains slide down them
+// to the slot and the chamber empties, as in demcal and LAMMPS
+// (test_engine_lammps_effects.cpp); the settled fill's dump gives demcal's
+// bulk density of LIGGGHTS's fill.
+TEST(EngineLiggghts, SandglassSliceHopperEmptiesTheChamber) {
+  const std::string command = liggghts_command();
+  const std::string exe = command.substr(0, command.find(' '));
+  if (!executable_available(exe))
+    GTEST_SKIP() << "LIGGGHTS not installed: \"" << exe
+                 << "\" is not on PATH (apt-get install liggghts, or set DEMCAL_LIGGGHTS)";
+  dem::SandglassOptions s;
+  s.bottom = "conical";
+  s.hopper_half_angle_deg = 30.0;
+  s.reduction.slice = true;
+  s.reduction.slice_thickness_diameters = 6.0;  // LIGGGHTS's least periodic mesh slab
+  s.upper_diameter_m = 0.024;
+  s.orifice_diameter_m = 0.008;
+  s.upper_height_m = 0.05;
+  s.lower_diameter_m = 0.06;
+  s.drop_height_m = 0.03;
+  s.fill_mass_kg = 0.01;
+  s.fill_lattice_spacing_diameters = 1.25;
+  s.form_pile = false;
+  dem::RunProtocol protocol;
+  protocol.max_flow_s = 2.0;
+  const auto material = testing::peer_material();
+  const DeckResult deck = write_liggghts_deck(s, material, protocol);
+  ASSERT_TRUE(deck.ok()) << deck.refusal;
+  const auto dir = testing::fresh_dir("engine", "liggghts-hopper");
+  EngineLaunch launch;
+  launch.command = command;
+  const EngineRunResult run = run_engine(*deck.deck, launch, dir);
+  const dem::ApparatusResult theirs = measure_engine_run(*deck.deck, dir);
+  dem::Sandglass own(s, material, protocol);
+  const dem::ApparatusResult mine = own.run({});
+  const double fraction = theirs.details["discharge"]["discharged_fraction"].get<double>();
+  std::cout << "LIGGGHTS sandglass slice with hopper: " << theirs.details["particles"]
+            << " particles, discharge time " << theirs.observables["discharge_time_s"]
+            << " s (demcal " << mine.observables["discharge_time_s"] << "), " << 100.0 * fraction
+            << " % discharged; bulk density " << theirs.observables["bulk_density_kg_m3"]
+            << " kg/m3 (demcal " << mine.observables["bulk_density_kg_m3"] << "), wall time "
+            << run.wall_time_s << " s\n";
+  EXPECT_GT(fraction, 0.98);
+  ASSERT_TRUE(theirs.observables["bulk_density_kg_m3"].is_number()) << theirs.observables.dump();
+  const double rho = mine.observables["bulk_density_kg_m3"].get<double>();
+  EXPECT_NEAR(theirs.observables["bulk_density_kg_m3"].get<double>(), rho, 0.05 * rho);
+  ASSERT_TRUE(theirs.observables["discharge_time_s"].is_number()) << theirs.details.dump(2);
+  const double t = mine.observables["discharge_time_s"].get<double>();
+  EXPECT_NEAR(theirs.observables["discharge_time_s"].get<double>(), t, 0.2 * t);
 }
 
 }  // namespace
