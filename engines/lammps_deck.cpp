@@ -53,9 +53,12 @@ void phase_loop(std::ostringstream& s, const std::string& phase, const std::stri
 }  // namespace
 
 DeckResult write_lammps_deck(const ApparatusLayout& layout, const DeckOptions& o) {
-  // A plate with a circular hole is no region primitive here (and a union or
-  // intersect region as one wall gave NaNs in this version): left out where the
-  // layout says what that changes, refused where it carries the fill.
+  // A plate with a circular hole is no region primitive here, and combined
+  // regions fail as walls in this version (a union of blocks gave NaNs; measured
+  // 2026-12-05, an intersect of a disc and a hole's complement, or a union of
+  // their complements, lets 1 mm grains through: "Lost atoms"; the disc alone
+  // holds them): left out where the layout says what that changes, refused where
+  // it carries the fill.
   ApparatusLayout l = layout;
   for (const auto& a : layout.annuli) {
     if (a.if_left_out.empty())

@@ -61,16 +61,7 @@ TEST(EngineLammps, SandglassSliceDischarges) {
   if (!executable_available(first_word(command)))
     GTEST_SKIP() << "LAMMPS not installed: \"" << first_word(command)
                  << "\" is not on PATH (apt-get install lammps, or set DEMCAL_LAMMPS)";
-  dem::SandglassOptions s;
-  s.bottom = "flat";
-  s.reduction.slice = true;
-  s.upper_diameter_m = 0.024;
-  s.orifice_diameter_m = 0.008;
-  s.upper_height_m = 0.05;
-  s.lower_diameter_m = 0.06;
-  s.drop_height_m = 0.03;
-  s.fill_mass_kg = 0.01;
-  s.fill_lattice_spacing_diameters = 1.25;
+  dem::SandglassOptions s = testing::small_sandglass_slice();
   s.form_pile = false;
   dem::RunProtocol protocol;
   protocol.max_flow_s = 2.0;

@@ -267,18 +267,7 @@ TEST(EngineLammpsEffects, SandglassSliceHopperEmptiesTheChamber) {
   // tests/engine/test_engine_lammps.cpp's slice, with the base study's hopper
   // (30 deg from the vertical) instead of the flat bottom: the grains slide
   // down the plates to the slot; no dead zones stay beside it.
-  dem::SandglassOptions s;
-  s.bottom = "conical";
-  s.hopper_half_angle_deg = 30.0;
-  s.reduction.slice = true;
-  s.upper_diameter_m = 0.024;
-  s.orifice_diameter_m = 0.008;
-  s.upper_height_m = 0.05;
-  s.lower_diameter_m = 0.06;
-  s.drop_height_m = 0.03;
-  s.fill_mass_kg = 0.01;
-  s.fill_lattice_spacing_diameters = 1.25;
-  s.form_pile = false;
+  const dem::SandglassOptions s = testing::small_hopper_slice();
   dem::RunProtocol protocol;
   protocol.max_flow_s = 2.0;
   const DeckResult deck = write_lammps_deck(s, testing::peer_material(), protocol);

@@ -60,19 +60,8 @@ TEST(EngineLiggghts, SandglassSliceHopperEmptiesTheChamber) {
   if (!executable_available(exe))
     GTEST_SKIP() << "LIGGGHTS not installed: \"" << exe
                  << "\" is not on PATH (apt-get install liggghts, or set DEMCAL_LIGGGHTS)";
-  dem::SandglassOptions s;
-  s.bottom = "conical";
-  s.hopper_half_angle_deg = 30.0;
-  s.reduction.slice = true;
-  s.reduction.slice_thickness_diameters = 6.0;  // LIGGGHTS's least periodic mesh slab
-  s.upper_diameter_m = 0.024;
-  s.orifice_diameter_m = 0.008;
-  s.upper_height_m = 0.05;
-  s.lower_diameter_m = 0.06;
-  s.drop_height_m = 0.03;
-  s.fill_mass_kg = 0.01;
-  s.fill_lattice_spacing_diameters = 1.25;
-  s.form_pile = false;
+  // Six diameters: LIGGGHTS's least periodic slab with mesh walls.
+  const dem::SandglassOptions s = testing::small_hopper_slice(6.0);
   dem::RunProtocol protocol;
   protocol.max_flow_s = 2.0;
   const auto material = testing::peer_material();

@@ -28,6 +28,34 @@ inline dem::GranularMaterial peer_material(const std::string& rolling = "epsd") 
   return m;
 }
 
+// The Sandglass slice the engine tests share, for peer_material's 1 mm grains: a
+// 24 mm chamber over an 8 mm slot 30 mm above the floor of a 60 mm lower
+// chamber, flat-bottomed, a 10 g fill on a lattice spaced 1.25 d.
+inline dem::SandglassOptions small_sandglass_slice(double thickness_diameters = 4.0) {
+  dem::SandglassOptions s;
+  s.bottom = "flat";
+  s.reduction.slice = true;
+  s.reduction.slice_thickness_diameters = thickness_diameters;
+  s.upper_diameter_m = 0.024;
+  s.orifice_diameter_m = 0.008;
+  s.upper_height_m = 0.05;
+  s.lower_diameter_m = 0.06;
+  s.drop_height_m = 0.03;
+  s.fill_mass_kg = 0.01;
+  s.fill_lattice_spacing_diameters = 1.25;
+  return s;
+}
+
+// The same slice with the base study's hopper (30 deg from the vertical) and no
+// pile below: the chamber must empty.
+inline dem::SandglassOptions small_hopper_slice(double thickness_diameters = 4.0) {
+  dem::SandglassOptions s = small_sandglass_slice(thickness_diameters);
+  s.bottom = "conical";
+  s.hopper_half_angle_deg = 30.0;
+  s.form_pile = false;
+  return s;
+}
+
 // The full (3D) sandglass for peer_material's 1 mm grains: a 24 mm chamber on a
 // 30-degree hopper down to an 8 mm orifice 30 mm above the floor of a 60 mm
 // lower chamber.

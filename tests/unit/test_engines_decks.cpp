@@ -33,21 +33,6 @@ dem::RectangularContainerOptions container() {
   return o;
 }
 
-dem::SandglassOptions sandglass_slice(double thickness_diameters) {
-  dem::SandglassOptions s;
-  s.bottom = "flat";
-  s.reduction.slice = true;
-  s.reduction.slice_thickness_diameters = thickness_diameters;
-  s.upper_diameter_m = 0.024;
-  s.orifice_diameter_m = 0.008;
-  s.upper_height_m = 0.05;
-  s.lower_diameter_m = 0.06;
-  s.drop_height_m = 0.03;
-  s.fill_mass_kg = 0.01;
-  s.fill_lattice_spacing_diameters = 1.25;
-  return s;
-}
-
 std::string record_text(const Deck& d) { return d.record.dump(1) + "\n"; }
 
 TEST(EnginesDecks, LammpsPouredSlabPileGolden) {
@@ -73,7 +58,8 @@ TEST(EnginesDecks, LammpsRectangularContainerGolden) {
 }
 
 TEST(EnginesDecks, LammpsSandglassSliceGolden) {
-  const auto r = write_lammps_deck(sandglass_slice(4.0), peer_material(), dem::RunProtocol{});
+  const auto r =
+      write_lammps_deck(testing::small_sandglass_slice(4.0), peer_material(), dem::RunProtocol{});
   ASSERT_TRUE(r.ok()) << r.refusal;
   expect_golden(r.deck->script, "engines/lammps_sandglass_slice.in");
   EXPECT_EQ(r.deck->mass_series_name, "mass_series.txt");
@@ -107,7 +93,8 @@ TEST(EnginesDecks, LiggghtsGoldens) {
   expect_golden(pile.deck->script, "engines/liggghts_poured_slab_pile.in");
   EXPECT_TRUE(pile.deck->files.empty());
 
-  const auto glass = write_liggghts_deck(sandglass_slice(6.0), peer_material(), dem::RunProtocol{});
+  const auto glass =
+      write_liggghts_deck(testing::small_sandglass_slice(6.0), peer_material(), dem::RunProtocol{});
   ASSERT_TRUE(glass.ok()) << glass.refusal;
   expect_golden(glass.deck->script, "engines/liggghts_sandglass_slice.in");
   ASSERT_EQ(glass.deck->files.size(), 5u);  // two chamber walls, the shut plate, two plate halves
@@ -118,7 +105,7 @@ TEST(EnginesDecks, LiggghtsGoldens) {
 TEST(EnginesDecks, RefusalsNameWhatIsMissing) {
   const auto m = peer_material();
   const dem::RunProtocol p;
-  auto full = sandglass_slice(4.0);
+  auto full = testing::small_sandglass_slice(4.0);
   full.reduction.slice = false;
   auto r = write_lammps_deck(full, m, p);
   ASSERT_FALSE(r.ok());
@@ -127,7 +114,7 @@ TEST(EnginesDecks, RefusalsNameWhatIsMissing) {
   // LIGGGHTS takes the hopper's slanted plates and the conical pile's funnel as
   // STL meshes (engines/stl_mesh.hpp): one mesh per solid, the funnel's outlet
   // disc unfixed when the material is let go.
-  auto cone = sandglass_slice(6.0);
+  auto cone = testing::small_sandglass_slice(6.0);
   cone.bottom = "conical";
   const auto hopper = write_liggghts_deck(cone, m, p);
   ASSERT_TRUE(hopper.ok()) << hopper.refusal;
@@ -148,7 +135,7 @@ TEST(EnginesDecks, RefusalsNameWhatIsMissing) {
   EXPECT_NE(write_lammps_deck(slice, m, p).refusal.find("V-shaped funnel"), std::string::npos);
 
   // LIGGGHTS's mesh walls in a thin periodic slab.
-  const auto thin = write_liggghts_deck(sandglass_slice(4.0), m, p);
+  const auto thin = write_liggghts_deck(testing::small_sandglass_slice(4.0), m, p);
   ASSERT_FALSE(thin.ok());
   EXPECT_NE(thin.refusal.find("thinner than 6 diameters"), std::string::npos) << thin.refusal;
 

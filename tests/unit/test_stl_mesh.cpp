@@ -46,6 +46,26 @@ std::array<double, 3> centroid(const Facet& f) {
   return c;
 }
 
+// A closed surface: every edge is shared by exactly two facets, once each way.
+void expect_closed(const std::vector<Facet>& facets) {
+  std::map<std::tuple<long, long, long, long, long, long>, int> edges;
+  auto key = [](const std::array<double, 3>& a) {
+    return std::array<long, 3>{std::lround(a[0] * 1e9), std::lround(a[1] * 1e9),
+                               std::lround(a[2] * 1e9)};
+  };
+  for (const Facet& f : facets)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = key(f.vertices[i]), b = key(f.vertices[(i + 1) % 3]);
+      ++edges[{a[0], a[1], a[2], b[0], b[1], b[2]}];
+    }
+  for (const auto& [e, count] : edges) {
+    EXPECT_EQ(count, 1);
+    EXPECT_NE(edges.find({std::get<3>(e), std::get<4>(e), std::get<5>(e), std::get<0>(e),
+                          std::get<1>(e), std::get<2>(e)}),
+              edges.end());
+  }
+}
+
 TEST(StlMesh, AShellsVerticesLieOnTheFrustumAndItsNormalsPointAwayFromTheAxis) {
   const AxialShell cone{"hopper", 0.004, 0.012, 0.03, 0.044};
   const auto facets = parse(axial_shell_stl(cone, 48));
@@ -67,26 +87,11 @@ TEST(StlMesh, ADiscIsClosedWithOutwardNormals) {
   const AxialDisc disc{"orifice_shut", 0.005, 0.029, 0.030};
   const auto facets = parse(axial_disc_stl(disc, 32));
   ASSERT_EQ(facets.size(), 4u * 32u);
-  // Watertight: every edge is shared by exactly two facets, once each way.
-  std::map<std::tuple<long, long, long, long, long, long>, int> edges;
-  auto key = [](const std::array<double, 3>& a) {
-    return std::array<long, 3>{std::lround(a[0] * 1e9), std::lround(a[1] * 1e9),
-                               std::lround(a[2] * 1e9)};
-  };
+  expect_closed(facets);
   for (const Facet& f : facets) {
-    for (int i = 0; i < 3; ++i) {
-      const auto a = key(f.vertices[i]), b = key(f.vertices[(i + 1) % 3]);
-      ++edges[{a[0], a[1], a[2], b[0], b[1], b[2]}];
-    }
     const auto c = centroid(f);
     const std::array<double, 3> out{c[0], c[1], c[2] - 0.5 * (disc.z_lower_m + disc.z_upper_m)};
     EXPECT_GT(f.normal[0] * out[0] + f.normal[1] * out[1] + f.normal[2] * out[2], 0.0);
-  }
-  for (const auto& [e, count] : edges) {
-    EXPECT_EQ(count, 1);
-    const auto back = edges.find({std::get<3>(e), std::get<4>(e), std::get<5>(e), std::get<0>(e),
-                                  std::get<1>(e), std::get<2>(e)});
-    EXPECT_NE(back, edges.end());
   }
 }
 
@@ -94,22 +99,15 @@ TEST(StlMesh, APlateWithAHoleIsClosedWithOutwardNormalsAndItsRadii) {
   const AxialAnnulus plate{"orifice_plate", 0.004, 0.03, 0.026, 0.03, ""};
   const auto facets = parse(axial_annulus_stl(plate, 40));
   ASSERT_EQ(facets.size(), 8u * 40u);
-  std::map<std::tuple<long, long, long, long, long, long>, int> edges;
-  auto key = [](const std::array<double, 3>& a) {
-    return std::array<long, 3>{std::lround(a[0] * 1e9), std::lround(a[1] * 1e9),
-                               std::lround(a[2] * 1e9)};
-  };
+  expect_closed(facets);
   const double mid_r = 0.5 * (plate.inner_radius_m + plate.outer_radius_m);
   const double mid_z = 0.5 * (plate.z_lower_m + plate.z_upper_m);
   for (const Facet& f : facets) {
-    for (int i = 0; i < 3; ++i) {
-      const auto& v = f.vertices[i];
+    for (const auto& v : f.vertices) {
       const double r = std::hypot(v[0], v[1]);
       EXPECT_TRUE(std::abs(r - plate.inner_radius_m) < 1e-12 ||
                   std::abs(r - plate.outer_radius_m) < 1e-12)
           << r;
-      const auto a = key(v), b = key(f.vertices[(i + 1) % 3]);
-      ++edges[{a[0], a[1], a[2], b[0], b[1], b[2]}];
     }
     // Outward from the plate's mid-surface (the ring of radius mid_r at mid_z):
     // the hole's wall faces the axis, the rim away from it, the rings up and down.
@@ -117,12 +115,6 @@ TEST(StlMesh, APlateWithAHoleIsClosedWithOutwardNormalsAndItsRadii) {
     const double r = std::hypot(c[0], c[1]);
     const std::array<double, 3> out{c[0] / r * (r - mid_r), c[1] / r * (r - mid_r), c[2] - mid_z};
     EXPECT_GT(f.normal[0] * out[0] + f.normal[1] * out[1] + f.normal[2] * out[2], 0.0);
-  }
-  for (const auto& [e, count] : edges) {
-    EXPECT_EQ(count, 1);
-    EXPECT_NE(edges.find({std::get<3>(e), std::get<4>(e), std::get<5>(e), std::get<0>(e),
-                          std::get<1>(e), std::get<2>(e)}),
-              edges.end());
   }
 }
 
