@@ -138,8 +138,12 @@ RenderedFigure map_figure(const fs::path& directory, const std::string& name, co
   s << (o.palette == "viridis" || o.palette == "diverging" ? palette(o.palette) : "set palette " + o.palette + "\n");
   if (!o.colorbox) s << "unset colorbox\n";
   if (o.value_max > o.value_min) s << "set cbrange [" << o.value_min << ":" << o.value_max << "]\n";
+  // A label's text runs towards the middle of the plot, so that a label at either edge
+  // (a region's part against a bound) stays inside the figure.
+  const double x_middle = 0.5 * (field.x.front() + field.x.back());
   for (const auto& l : o.labels)
-    s << "set label " << q(l.text) << " at " << l.x << "," << l.y << " front font ',11' textcolor rgb '#222222'\n";
+    s << "set label " << q(l.text) << " at " << l.x << "," << l.y
+      << (l.x > x_middle ? " right" : " left") << " front font ',11' textcolor rgb '#222222'\n";
   s << "set title " << q(o.title) << "\nset xlabel " << q(o.x_label) << "\nset ylabel " << q(o.y_label)
     << "\nset cblabel " << q(o.value_label) << "\n";
   s << "set xrange [" << field.x.front() << ":" << field.x.back() << "]\nset yrange [" << field.y.front()

@@ -67,7 +67,7 @@ TEST(ReportLayout, EveryFigureOfBothReportsIsDrawnShipsItsDataAndHasNoOverlappin
   fs::remove_all(out);
   cli::FitOptions o;
   o.study = fs::path(DEMCAL_SOURCE_DIR) / "studies/quick/study.toml";
-  o.doe_csv = fs::path(DEMCAL_SOURCE_DIR) / "studies/sandglass-recovery-lined/doe.csv";
+  o.doe_csv = fs::path(DEMCAL_SOURCE_DIR) / "studies/quick/doe.csv";
   o.output_dir = out;
   o.quiet = true;
   o.overrides = {"calibration.mcmc_samples=2000", "calibration.mcmc_burn_in=500",
