@@ -8,6 +8,7 @@
 # A name that is not registered (e.g. a test left out by a label) is ignored by ctest.
 set_tests_properties(RectangularContainer.AngleOfReposeRisesWithFriction PROPERTIES COST 450)
 set_tests_properties(Sandglass.QuickSliceDischargesAndMeasuresEveryObservable PROPERTIES COST 300)
+set_tests_properties(PouredPile.SteeperWithMoreSlidingAndMoreRollingFriction PROPERTIES COST 220)
 set_tests_properties(EngineMaterialCard.LiggghtsCardGivesTheDeckAngleOfReposeWithinTheScatter
                      PROPERTIES COST 190)
 set_tests_properties(EngineMaterialCard.LammpsCardGivesTheDeckAngleOfReposeWithinTheScatter
@@ -19,7 +20,6 @@ set_tests_properties(EngineLammpsEffects.SandglassSliceHopperEmptiesTheChamber P
 set_tests_properties(BothEngines/EngineFullSandglass.EmptiesOnTwoRanksAsDemcalsOwnRunDoes/lammps PROPERTIES COST 60)
 set_tests_properties(BothEngines/EngineFullSandglass.EmptiesOnTwoRanksAsDemcalsOwnRunDoes/liggghts PROPERTIES COST 60)
 set_tests_properties(ApparatusObservables.Sandglass PROPERTIES COST 60)
-set_tests_properties(PouredPile.SteeperWithMoreSlidingAndMoreRollingFriction PROPERTIES COST 57)
 set_tests_properties(ApparatusObservables.ConicalPile PROPERTIES COST 53)
 set_tests_properties(EngineLammps.SandglassSliceDischarges PROPERTIES COST 43)
 set_tests_properties(EngineLiggghts.SandglassSliceHopperEmptiesTheChamber PROPERTIES COST 30)

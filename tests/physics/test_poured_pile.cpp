@@ -59,23 +59,44 @@ PouredSlabPileOptions small_pile(double mu_s, double mu_r) {
   return o;
 }
 
-double pile_slope(double mu_s, double mu_r) {
-  auto sim = make_poured_slab_pile(small_pile(mu_s, mu_r));
+double pile_slope(double mu_s, double mu_r, std::uint64_t seed) {
+  auto o = small_pile(mu_s, mu_r);
+  o.seed = seed;
+  auto sim = make_poured_slab_pile(o);
   EXPECT_TRUE(run_until_at_rest(*sim, 2e-3, 2.0)) << "pile did not come to rest";
   const double slope = mean_slope_deg(sim->particles(), 1e-3);
-  std::cout << "mu_s " << mu_s << " mu_r " << mu_r << ": slope " << slope << " deg\n";
+  std::cout << "mu_s " << mu_s << " mu_r " << mu_r << " seed " << seed << ": slope " << slope
+            << " deg\n";
   return slope;
 }
 
+// The mean slope of one friction pair's piles over six seeds.
+double mean_pile_slope(double mu_s, double mu_r) {
+  double sum = 0.0;
+  const std::uint64_t seeds[] = {4767, 1, 2, 3, 4, 5};
+  for (std::uint64_t seed : seeds) sum += pile_slope(mu_s, mu_r, seed);
+  return sum / static_cast<double>(std::size(seeds));
+}
+
+// One pile's slope is chaotic in its seed, and a change of the engine's rounding acts as a
+// new seed, so the comparison is between means over six seeds with margins set by their
+// scatter. Measured 2026-12-05, seeds 4767 and 1-5, as built and with the contact normal
+// computed as d * (1 / |d|) (a one-ulp change, i.e. another six random streams); mean
+// (sd of one pile) in degrees:
+//   base (0.15, 0.1): 11.4 (1.5) and 13.0 (3.0); more sliding (0.6, 0.1): 21.8 (1.1) and
+//   21.5 (1.1); more rolling at that sliding friction (0.6, 0.4): 24.0 (0.7) and 23.8 (1.0).
+// Sliding - base: 10.3 and 8.6 (se about 1) against a margin of 4; rolling - sliding: 2.3
+// both times (se 0.5) against a margin of 1, missed by a new set of seeds with a
+// probability of about 1 %. Rolling friction is compared where grains do not slide: at
+// mu_s = 0.15 (until then, one seed each) raising mu_r to 0.4 gave +4.8 and +0.1 degrees on
+// the two sets, within one pile's scatter of 3-4 degrees.
 TEST(PouredPile, SteeperWithMoreSlidingAndMoreRollingFriction) {
-  const double base = pile_slope(0.15, 0.1);
-  const double more_sliding = pile_slope(0.6, 0.1);
-  const double more_rolling = pile_slope(0.15, 0.4);
-  // Seed scatter of one pile is about 1 degree (peers/README.md); ask for clear margins.
-  // Measured when written: 11.5, 23.3 and 19.9 degrees.
+  const double base = mean_pile_slope(0.15, 0.1);
+  const double more_sliding = mean_pile_slope(0.6, 0.1);
+  const double more_rolling = mean_pile_slope(0.6, 0.4);
   EXPECT_GT(base, 5.0);
   EXPECT_GT(more_sliding, base + 4.0);
-  EXPECT_GT(more_rolling, base + 4.0);
+  EXPECT_GT(more_rolling, more_sliding + 1.0);
 }
 
 std::vector<Vec3> pour_positions(int threads) {
