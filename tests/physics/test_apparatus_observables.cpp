@@ -89,10 +89,14 @@ TEST(ApparatusObservables, ConicalPile) {
   check(p, kPileGap);
 }
 
+// The pile must give an angle whatever the seed (a change of the engine's rounding acts as a
+// new one): 0.01 kg left a heap of 6.6-11.4 deg over seeds 1-8, a crest of a few grains, and
+// none at all with a one-ulp change of the contact normal (2026-12-05); 0.02 kg gives
+// 16.9-21.0 deg.
 TEST(ApparatusObservables, Sandglass) {
   SandglassOptions o;
   o.upper_diameter_m = 0.04;
-  o.fill_mass_kg = 0.01;
+  o.fill_mass_kg = 0.02;
   o.reduction.slice = true;
   o.reduction.coarse_graining_factor = 2.5;
   Sandglass s(o, sand(), RunProtocol{});
