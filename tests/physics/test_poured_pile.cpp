@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
+#include <iterator>
 #include <numbers>
 
 namespace demcal::dem {
