@@ -1,5 +1,7 @@
 #include "surrogate/cross_validation.hpp"
 
+#include <gsl/gsl_cdf.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,8 +41,9 @@ ValidationMetrics validation_metrics(const LeaveOneOut& loo) {
   return m;
 }
 
-ScatterCheck check_against_scatter(double loo_rmse, double run_to_run_sd, const std::string& output_name,
-                                   int replicates_per_point) {
+ScatterCheck check_against_scatter(double loo_rmse, double run_to_run_sd,
+                                   const std::string& output_name, int replicates_per_point,
+                                   int scatter_degrees_of_freedom) {
   const std::string who = "scatter check for '" + output_name + "'";
   if (!(loo_rmse >= 0.0))
     throw std::invalid_argument(who + ": loo_rmse must be >= 0 and not NaN");
@@ -48,16 +51,27 @@ ScatterCheck check_against_scatter(double loo_rmse, double run_to_run_sd, const 
     throw std::invalid_argument(who + ": run_to_run_sd must be finite and >= 0");
   if (replicates_per_point < 1)
     throw std::invalid_argument(who + ": replicates_per_point must be >= 1");
+  if (scatter_degrees_of_freedom < 0)
+    throw std::invalid_argument(who + ": scatter_degrees_of_freedom must be >= 0");
   const double noise_var = run_to_run_sd * run_to_run_sd / replicates_per_point;
   ScatterCheck c;
   c.surrogate_error = std::sqrt(std::max(0.0, loo_rmse * loo_rmse - noise_var));
-  c.within_scatter = c.surrogate_error <= run_to_run_sd;
-  char buf[320];
+  const double nu = scatter_degrees_of_freedom;
+  c.scatter_bound = scatter_degrees_of_freedom > 0
+                        ? run_to_run_sd * std::sqrt(nu / gsl_cdf_chisq_Pinv(0.05, nu))
+                        : run_to_run_sd;
+  c.within_scatter = c.surrogate_error <= c.scatter_bound;
+  char bound[160] = "";
+  if (scatter_degrees_of_freedom > 0)
+    std::snprintf(bound, sizeof bound,
+                  " (from %d degrees of freedom: at most %.4g at 95 %% confidence)",
+                  scatter_degrees_of_freedom, c.scatter_bound);
+  char buf[480];
   std::snprintf(buf, sizeof buf,
                 "surrogate for '%s': leave-one-out RMSE %.4g, of which %.4g is surrogate error "
-                "after removing the noise of %d-run means; DEM run-to-run scatter %.4g%s",
+                "after removing the noise of %d-run means; DEM run-to-run scatter %.4g%s%s",
                 output_name.c_str(), loo_rmse, c.surrogate_error, replicates_per_point,
-                run_to_run_sd,
+                run_to_run_sd, bound,
                 c.within_scatter ? ""
                                  : ": the surrogate is worse than rerunning the DEM (add design "
                                    "points or change the model)");

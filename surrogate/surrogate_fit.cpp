@@ -207,7 +207,8 @@ FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& s
   f.validation = validation_metrics(f.loo);
   if (std::isfinite(f.scatter.sd) && f.scatter.sd > 0.0) {
     f.scatter_check = check_against_scatter(f.validation.rmse, f.scatter.sd, name,
-                                            static_cast<int>(std::lround(replicates_per_point)));
+                                            static_cast<int>(std::lround(replicates_per_point)),
+                                            f.scatter.degrees_of_freedom);
   } else {
     f.scatter_check.within_scatter = true;
     f.scatter_check.surrogate_error = f.validation.rmse;

@@ -153,9 +153,11 @@ InspectionReportFiles write_inspection_report(const fs::path& dir, const std::ve
   summary["upper"] = o.upper;
 
   page.paragraph(
-      "Each surrogate below stands in for the DEM in the calibration. Leave-one-out (LOO) predicts every "
-      "design point from a model fitted without it; a surrogate is trustworthy where its LOO error is no "
-      "larger than the DEM's own run-to-run scatter, measured from the replicates.");
+      "Each surrogate below stands in for the DEM in the calibration. Leave-one-out (LOO) "
+      "predicts every design point from a model fitted without it; a surrogate is trustworthy "
+      "where its LOO error is no larger than the DEM's own run-to-run scatter, measured from the "
+      "replicates (a scatter measured from few replicates is allowed its 95 % upper confidence "
+      "bound: it may have come out low).");
   std::vector<std::vector<std::string>> rows;
   for (const auto& s : surrogates) {
     const auto& f = s.fit;

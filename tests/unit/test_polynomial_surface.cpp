@@ -260,6 +260,24 @@ TEST(PolynomialSurface, ScatterCheckFlagsASurrogateWorseThanRerunningTheDem) {
                        "run_to_run_sd"));
 }
 
+TEST(PolynomialSurface, ScatterCheckAllowsForAScatterEstimatedFromFewDegreesOfFreedom) {
+  // Surrogate error sqrt(2² - 1) = 1.73 against a scatter of 1 that could be 1.92 (6 dof,
+  // chi²_0.05(6) = 1.6354) or 1.13 (100 dof, chi²_0.05(100) = 77.929) at 95 % confidence.
+  const auto few = check_against_scatter(2.0, 1.0, "aor_deg", 1, 6);
+  EXPECT_NEAR(few.scatter_bound, std::sqrt(6.0 / 1.63538), 1e-4);
+  EXPECT_TRUE(few.within_scatter) << few.message;
+  EXPECT_TRUE(contains(few.message, "from 6 degrees of freedom")) << few.message;
+  const auto many = check_against_scatter(2.0, 1.0, "aor_deg", 1, 100);
+  EXPECT_NEAR(many.scatter_bound, std::sqrt(100.0 / 77.9295), 1e-4);
+  EXPECT_FALSE(many.within_scatter) << many.message;
+  EXPECT_TRUE(contains(many.message, "worse than rerunning")) << many.message;
+  // No degrees of freedom given: the scatter is taken as exact, as before.
+  EXPECT_EQ(check_against_scatter(2.0, 1.0, "aor_deg").scatter_bound, 1.0);
+  EXPECT_TRUE(
+      contains(invalid_argument_message([] { check_against_scatter(1.0, 1.0, "x", 1, -1); }),
+               "scatter_degrees_of_freedom"));
+}
+
 TEST(PolynomialSurface, ExplicitTermSetsAndTheirLimits) {
   const Eigen::MatrixXd x = random_points(20, {0, 0}, {2, 2}, 8);
   const Eigen::VectorXd y = (1.0 + 2.0 * x.col(0).array() * x.col(1).array()).matrix();
