@@ -98,6 +98,9 @@ DeckResult write_lammps_deck(const ApparatusLayout& layout, const DeckOptions& o
     << " " << (l.periodic[2] ? "p" : "f") << "\n"
     << "newton          off\n"
     << "comm_modify     vel yes\n"
+    // Cut the domain across x and y only, never across gravity's axis (see
+    // the LIGGGHTS deck: a cut across z leaves one rank nearly every grain).
+    << "processors      * * 1\n"
     << "region          box block " << box_words(l.box) << " units box\n"
     << "create_box      " << box_types << " box\n"
     << "neighbor        " << n(o.skin_fraction_of_diameter * d_max) << " bin\n"
