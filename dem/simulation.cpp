@@ -167,6 +167,7 @@ void Simulation::prepare() {
   team_ = std::make_unique<ThreadTeam>(options_.threads, options_.worker_parking,
                                        options_.worker_parking_options);
   chunk_scratch_.assign(static_cast<std::size_t>(options_.threads), ChunkScratch{});
+  contact_batches_.resize(static_cast<std::size_t>(options_.threads));
   thread_force_.resize(options_.threads);
   thread_torque_.resize(options_.threads);
   thread_wall_loads_.resize(options_.threads);
@@ -529,8 +530,29 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     const PairCoefficients* const coef = coefficients_.data();
     Vec3* const Fp = F.data();
     Vec3* const Tp = T.data();
+    // Contacts are evaluated a batch at a time (dem/contact_batch.hpp) and
+    // added to the particles in the order they were found.
+    const ParticleArrays pa{xp, vp, wp, rp, mp, imp, iip, matp};
+    ContactBatch& batch = contact_batches_[static_cast<std::size_t>(m)];
+    batch.size = 0;
+    auto flush = [&] {
+      evaluate(kernel, batch, coef, dt);
+      for (int l = 0; l < batch.size; ++l) {
+        const auto i = static_cast<std::size_t>(batch.i[l]);
+        const auto j = static_cast<std::size_t>(batch.j[l]);
+        list.history[batch.pair[l]] = batch.history(l);
+        const Vec3 fi = batch.force_on_i(l);
+        Fp[i] += fi;
+        Fp[j] -= fi;
+        Tp[i] += batch.torque_on_i(l);
+        Tp[j] += batch.torque_on_j(l);
+        elastic += batch.energy_j[l];
+      }
+      contacts += static_cast<std::size_t>(batch.size);
+      batch.size = 0;
+    };
     for (std::size_t i = own_begin; i < own_end; ++i) {
-      const Vec3 xi = xp[i], vi = vp[i], wi = wp[i];
+      const Vec3 xi = xp[i];
       const double ri = rp[i];
       const int mi = matp[i];
       const std::uint32_t end = list.first[i + 1];
@@ -557,38 +579,12 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
             continue;
           }
         }
-        const double dist = std::sqrt(dist2);
-        const Vec3 wj = wp[j];
-        ContactKinematics k;
-        k.normal = d / dist;
-        k.overlap_m = rsum - dist;
-        k.radius_eff_m = ri * rj / rsum;
-        k.mass_eff_kg = mp[i] * mp[j] / (mp[i] + mp[j]);
-        k.lever_i_m = ri - 0.5 * k.overlap_m;
-        k.lever_j_m = rj - 0.5 * k.overlap_m;
-        k.inv_mass_i_kg = imp[i];
-        k.inv_mass_j_kg = imp[j];
-        k.inv_inertia_i_kg_m2 = iip[i];
-        k.inv_inertia_j_kg_m2 = iip[j];
-        k.omega_i_rad_s = wi;
-        k.omega_j_rad_s = wj;
-        const Vec3 vc = vi - vp[j] - cross(k.lever_i_m * wi + k.lever_j_m * wj, k.normal);
-        k.normal_speed_m_s = dot(vc, k.normal);
-        k.tangential_velocity_m_s = vc - k.normal_speed_m_s * k.normal;
-        k.dt_s = dt;
         list.touching[p] = 1;
-        ContactForce cf;
-        kernel(k, coef[mi * nm + matp[j]], list.history[p], cf);
-        const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
-        const Vec3 nxft = cross(k.normal, cf.tangential_force_n);
-        Fp[i] += fi;
-        Fp[j] -= fi;
-        Tp[i] += cf.torque_i_nm - k.lever_i_m * nxft;
-        Tp[j] += cf.torque_j_nm - k.lever_j_m * nxft;
-        elastic += cf.elastic_energy_j;
-        ++contacts;
+        batch.add(static_cast<std::uint32_t>(i), j, p, d, dist2, list.history[p], pa, nm);
+        if (batch.full()) flush();
       }
     }
+    flush();
 
     for (std::size_t wi = 0; wi < nwalls; ++wi) {
       const Wall& wall = *walls_[wi];

@@ -7,6 +7,7 @@
 #include "dem/body_force.hpp"
 #include "dem/contact/contact_law.hpp"
 #include "dem/contact/pair_coefficients.hpp"
+#include "dem/contact_batch.hpp"
 #include "dem/domain.hpp"
 #include "dem/insertion/inserter.hpp"
 #include "dem/material.hpp"
@@ -191,6 +192,7 @@ class Simulation {
     std::size_t first_bad = 0;
   };
   std::vector<ChunkScratch> chunk_scratch_;
+  std::vector<ContactBatch> contact_batches_;  // one per chunk
   // Chunk m owns particles [owner_begin_[m], owner_begin_[m+1]) in the force
   // loop (split so that each owns about as many listed pairs) and writes
   // forces on particles up to window_end_[m] (its partners). Set at each build.

@@ -61,7 +61,6 @@ struct ConstantSpringDashpot {
 
   [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
                                     ContactHistory& h, ContactForce& f) const {
-    if (c.rolling_friction == 0.0) return;
     apply_rolling_spring_dashpot_slider(k, c, c.rolling_friction * k.radius_eff_m,
                                         stiffness_nm_rad(c, k.radius_eff_m), h, f);
   }

@@ -1,5 +1,6 @@
 #include "dem/contact/contact_law.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -28,7 +29,11 @@ std::vector<std::string> names_of() {
   [&]<std::size_t... I>(std::index_sequence<I...>) {
     (out.emplace_back(std::variant_alternative_t<I, Variant>::kName), ...);
   }(std::make_index_sequence<std::variant_size_v<Variant>>{});
-  return out;
+  // Two parts may share a name (one chosen by an option); list it once.
+  std::vector<std::string> unique;
+  for (const std::string& n : out)
+    if (std::find(unique.begin(), unique.end(), n) == unique.end()) unique.push_back(n);
+  return unique;
 }
 
 std::string join(const std::vector<std::string>& names) {
@@ -141,11 +146,10 @@ ContactLaw make_contact_law(const ContactLawSpec& spec) {
   law.tangential = pick<TangentialPart>("tangential", spec.tangential);
   law.rolling = pick<RollingPart>("rolling", spec.rolling);
   if (spec.cdt_own_angular_velocity) {
-    auto* cdt = std::get_if<ConstantDirectionalTorque>(&law.rolling);
-    if (cdt == nullptr)
+    if (!std::holds_alternative<ConstantDirectionalTorque>(law.rolling))
       throw std::invalid_argument(
           "contact.cdt_own_angular_velocity applies only to rolling = \"cdt\"");
-    cdt->own_angular_velocity = true;
+    law.rolling = ConstantDirectionalTorqueOwnOmega{};
   }
   return law;
 }

@@ -12,6 +12,11 @@
 // graining take them from registered_part_parameters().
 //
 // A part's apply() is marked [[gnu::always_inline]]: the loop must not call it.
+// It is written without branches (selects, `c ? a : b`, taken before any
+// division they guard; no early return, no flag read): the engine applies the
+// law to batches of contacts in a loop the compiler vectorises
+// (dem/contact_batch.hpp), and one branch in one part keeps the whole law
+// scalar. A part with branches is still correct, only slower.
 //
 // A part may hold a contact beyond touching (adhesion): it then defines
 //   bool holds(const PairCoefficients&, double radius_eff_m, double overlap_m) const
@@ -43,8 +48,11 @@ namespace demcal::dem {
 using NormalPart = std::variant<HertzNormal>;
 using AdhesionPart = std::variant<NoAdhesion, JkrAdhesion, LiquidBridge>;
 using TangentialPart = std::variant<MindlinTangential, NoTangential>;
-using RollingPart = std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot,
-                                 ConstantSpringDashpot, NoRolling>;
+// ConstantDirectionalTorqueOwnOmega shares the name "cdt" (it is chosen by
+// contact.cdt_own_angular_velocity); a name is found by its first part.
+using RollingPart =
+    std::variant<ConstantDirectionalTorque, ElasticPlasticSpringDashpot, ConstantSpringDashpot,
+                 NoRolling, ConstantDirectionalTorqueOwnOmega>;
 
 // What a config says about the contact law.
 struct ContactLawSpec {

@@ -52,14 +52,21 @@ struct ContactForce {
 };
 
 // Keeps a history vector in the current tangent plane without changing its
-// length: the contact rotates, the spring rotates with it.
-inline Vec3 rotate_into_tangent_plane(const Vec3& v, const Vec3& n) {
+// length: the contact rotates, the spring rotates with it. A zero vector, or
+// one along the normal, becomes zero.
+//
+// Written without branches (selects only), like every part's apply(): the
+// engine runs the parts over batches of contacts in a loop the compiler
+// vectorises, and an `if` that leaves early keeps it from doing so
+// (dem/simulation.cpp, "contact batches"). The select is taken before the
+// division, so no lane divides by zero.
+[[gnu::always_inline]] inline Vec3 rotate_into_tangent_plane(const Vec3& v, const Vec3& n) {
   const double len2 = norm2(v);
-  if (len2 == 0.0) return v;
   const Vec3 projected = v - dot(v, n) * n;
   const double plen2 = norm2(projected);
-  if (plen2 == 0.0) return Vec3{};
-  return projected * std::sqrt(len2 / plen2);
+  const bool keep = plen2 > 0.0;
+  const double scale = keep ? std::sqrt(len2 / (keep ? plen2 : 1.0)) : 0.0;
+  return projected * scale;
 }
 
 }  // namespace demcal::dem

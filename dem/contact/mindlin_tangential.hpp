@@ -26,20 +26,23 @@ struct MindlinTangential {
     const Vec3 spring = -stiffness * xi;
     const double limit = c.sliding_friction * f.friction_load_n;
     const double spring2 = norm2(spring);
-    if (spring2 > limit * limit) {
-      const double ratio = spring2 > 0.0 ? limit / std::sqrt(spring2) : 0.0;
-      xi *= ratio;
-      f.tangential_force_n = spring * ratio;
-    } else {
-      const double damping =
-          HertzNormal::kDampingScale * c.damping_beta * std::sqrt(stiffness * k.mass_eff_kg);
-      Vec3 ft = spring - damping * k.tangential_velocity_m_s;
-      // The damper must not push the force past the Coulomb limit either.
-      const double ft2 = norm2(ft);
-      if (ft2 > limit * limit) ft *= limit / std::sqrt(ft2);
-      f.tangential_force_n = ft;
-      f.elastic_energy_j += 0.5 * stiffness * norm2(xi);
-    }
+    // Both branches are computed and one is selected (no `if`: see
+    // rotate_into_tangent_plane); a selected value equals the branch's own.
+    const double limit2 = limit * limit;
+    const bool slides = spring2 > limit2;
+    // Sliding: the spring shortened onto the Coulomb limit.
+    const double ratio = spring2 > 0.0 ? limit / std::sqrt(spring2 > 0.0 ? spring2 : 1.0) : 0.0;
+    // Sticking: spring and damper; the damper must not push the force past
+    // the Coulomb limit either.
+    const double damping =
+        HertzNormal::kDampingScale * c.damping_beta * std::sqrt(stiffness * k.mass_eff_kg);
+    const Vec3 ft = spring - damping * k.tangential_velocity_m_s;
+    const double ft2 = norm2(ft);
+    const double cap = ft2 > limit2 ? limit / std::sqrt(ft2 > limit2 ? ft2 : 1.0) : 1.0;
+    const double kept = slides ? ratio : 1.0;
+    xi *= kept;
+    f.tangential_force_n = slides ? spring * ratio : ft * cap;
+    f.elastic_energy_j += slides ? 0.0 : 0.5 * stiffness * norm2(xi);
     h.tangential_displacement_m = xi;
   }
 };

@@ -27,33 +27,46 @@ inline Vec3 relative_rolling_velocity(const ContactKinematics& k) {
 // Constant directional torque (EDEM's "type A", LIGGGHTS's "cdt"): a torque of
 // magnitude mu_r * F_n * l on each particle, l being the distance from its centre
 // to the contact point (EDEM's lever arm), opposing the relative rolling angular
-// velocity. EDEM's original opposes each particle's own angular velocity; that
-// variant is kept (own_angular_velocity = true) to reproduce EDEM figures, at the
-// cost of torques on grains that roll together without relative motion.
-// The torque is capped at what stops the relative rolling within one step, so a
-// grain at rest does not chatter between directions.
+// velocity. The torque is capped at what stops the relative rolling within one
+// step, so a grain at rest does not chatter between directions.
+//
+// Without branches (see rotate_into_tangent_plane in contact_state.hpp): a
+// contact with no load, no rolling friction or no rolling gets a torque scaled
+// by zero, which leaves the sums as they were.
 struct ConstantDirectionalTorque {
   static constexpr const char* kName = "cdt";
-  bool own_angular_velocity = false;
 
   [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
                                     ContactHistory& /*h*/, ContactForce& f) const {
-    if (c.rolling_friction == 0.0 || f.friction_load_n == 0.0) return;
     const double moment = c.rolling_friction * f.friction_load_n;  // per unit lever arm
-    if (!own_angular_velocity) {
-      const Vec3 w = relative_rolling_velocity(k);
-      const double wn = norm(w);
-      if (wn == 0.0) return;
-      // Change of w in one step per unit of `scale` (torque per lever arm); the
-      // cap keeps the step from reversing w.
-      const double compliance =
-          (k.lever_i_m * k.inv_inertia_i_kg_m2 + k.lever_j_m * k.inv_inertia_j_kg_m2) * k.dt_s;
-      const double scale = std::min(moment, wn / std::max(compliance, 1e-300));
-      const Vec3 dir = w / wn;
-      f.torque_i_nm -= dir * (scale * k.lever_i_m);
-      f.torque_j_nm += dir * (scale * k.lever_j_m);
-      return;
-    }
+    const Vec3 w = relative_rolling_velocity(k);
+    const double wn = norm(w);
+    const bool on = moment != 0.0 && wn != 0.0;
+    // Change of w in one step per unit of `scale` (torque per lever arm); the
+    // cap keeps the step from reversing w.
+    const double compliance =
+        (k.lever_i_m * k.inv_inertia_i_kg_m2 + k.lever_j_m * k.inv_inertia_j_kg_m2) * k.dt_s;
+    const double scale = on ? std::min(moment, wn / std::max(compliance, 1e-300)) : 0.0;
+    const Vec3 dir = w / (on ? wn : 1.0);
+    f.torque_i_nm -= dir * (scale * k.lever_i_m);
+    f.torque_j_nm += dir * (scale * k.lever_j_m);
+  }
+};
+
+// EDEM's original constant directional torque: each particle's torque opposes
+// its own angular velocity (without its component along the normal), at the
+// cost of torques on grains that roll together without relative motion. Kept
+// to reproduce EDEM figures; chosen by contact.cdt_own_angular_velocity with
+// rolling = "cdt", hence the same name. A part of its own, not a flag of the
+// one above: a flag read in the contact loop is a branch there, and a branch
+// keeps the loop from being vectorised.
+struct ConstantDirectionalTorqueOwnOmega {
+  static constexpr const char* kName = "cdt";
+
+  [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
+                                    ContactHistory& /*h*/, ContactForce& f) const {
+    const double moment = c.rolling_friction * f.friction_load_n;  // per unit lever arm
+    if (moment == 0.0) return;
     auto own = [&](const Vec3& omega, double lever, double inv_inertia, Vec3& torque) {
       const Vec3 w = omega - dot(omega, k.normal) * k.normal;
       const double wn = norm(w);
@@ -72,6 +85,11 @@ struct ConstantDirectionalTorque {
 // fraction of its critical damping, and a plastic limit |M| <= arm F_n, arm =
 // mu_r R*, at which the dashpot is idle. The parts differ only in the spring's
 // stiffness, so that difference is all either of them states.
+//
+// Without branches (see rotate_into_tangent_plane in contact_state.hpp): both
+// the sliding and the sticking torque are computed and one is selected. With
+// mu_r = 0 the arm and the stiffness are 0, the spring stays at zero and so
+// does the torque: no special case is needed.
 [[gnu::always_inline]] inline void apply_rolling_spring_dashpot_slider(
     const ContactKinematics& k, const PairCoefficients& c, double arm_m, double stiffness_nm_rad,
     ContactHistory& h, ContactForce& f) {
@@ -80,20 +98,24 @@ struct ConstantDirectionalTorque {
       rotate_into_tangent_plane(h.rolling_torque_nm, k.normal) - stiffness_nm_rad * k.dt_s * w;
   const double limit = arm_m * f.friction_load_n;
   const double s2 = norm2(spring);
-  Vec3 torque;
-  if (s2 > limit * limit) {
-    spring *= limit / std::sqrt(s2);
-    torque = spring;
-  } else {
-    // Reduced moment of inertia about the contact point (Ai et al., eq. 16).
-    const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
-    double inv_ir = 1.0 / ii;
-    if (k.inv_inertia_j_kg_m2 > 0.0)
-      inv_ir += 1.0 / (1.0 / k.inv_inertia_j_kg_m2 + k.lever_j_m * k.lever_j_m / k.inv_mass_j_kg);
-    const double damping = c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness_nm_rad / inv_ir);
-    torque = spring - damping * w;
-    if (stiffness_nm_rad > 0.0) f.elastic_energy_j += 0.5 * norm2(spring) / stiffness_nm_rad;
-  }
+  const bool slides = s2 > limit * limit;
+  // Sticking: reduced moment of inertia about the contact point (Ai et al.,
+  // eq. 16); a wall (no rotational inertia) adds nothing.
+  const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
+  double inv_ir = 1.0 / ii;
+  const bool j_turns = k.inv_inertia_j_kg_m2 > 0.0;
+  const double inv_inertia_j = j_turns ? k.inv_inertia_j_kg_m2 : 1.0;
+  const double inv_mass_j = j_turns ? k.inv_mass_j_kg : 1.0;
+  const double inv_ir_j = 1.0 / (1.0 / inv_inertia_j + k.lever_j_m * k.lever_j_m / inv_mass_j);
+  inv_ir += j_turns ? inv_ir_j : 0.0;
+  const double damping = c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness_nm_rad / inv_ir);
+  const Vec3 sticking = spring - damping * w;
+  const bool stores = stiffness_nm_rad > 0.0;
+  const double energy = stores ? 0.5 * norm2(spring) / (stores ? stiffness_nm_rad : 1.0) : 0.0;
+  // Sliding: the spring shortened onto the plastic limit, the dashpot idle.
+  spring *= slides ? limit / std::sqrt(slides ? s2 : 1.0) : 1.0;
+  const Vec3 torque = slides ? spring : sticking;
+  f.elastic_energy_j += slides ? 0.0 : energy;
   h.rolling_torque_nm = spring;
   f.torque_i_nm += torque;
   f.torque_j_nm -= torque;
@@ -111,7 +133,6 @@ struct ElasticPlasticSpringDashpot {
 
   [[gnu::always_inline]] void apply(const ContactKinematics& k, const PairCoefficients& c,
                                     ContactHistory& h, ContactForce& f) const {
-    if (c.rolling_friction == 0.0) return;
     const double arm = c.rolling_friction * k.radius_eff_m;
     const double stiffness = c.rolling_stiffness_factor * f.normal_stiffness_n_m * arm * arm;
     apply_rolling_spring_dashpot_slider(k, c, arm, stiffness, h, f);
