@@ -41,9 +41,9 @@ namespace demcal::dem {
 #define DEMCAL_VECTOR_CLONES
 #endif
 
-// The particle data a batch reads, as raw arrays (indexed by particle).
+// The particle data a batch copies, as raw arrays (indexed by particle); the
+// separation comes from the distance test.
 struct ParticleArrays {
-  const Vec3* position_m;
   const Vec3* velocity_m_s;
   const Vec3* omega_rad_s;
   const double* radius_m;

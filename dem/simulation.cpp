@@ -532,7 +532,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     Vec3* const Tp = T.data();
     // Contacts are evaluated a batch at a time (dem/contact_batch.hpp) and
     // added to the particles in the order they were found.
-    const ParticleArrays pa{xp, vp, wp, rp, mp, imp, iip, matp};
+    const ParticleArrays pa{vp, wp, rp, mp, imp, iip, matp};
     ContactBatch& batch = contact_batches_[static_cast<std::size_t>(m)];
     batch.size = 0;
     auto flush = [&] {

@@ -94,7 +94,7 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
   std::mt19937_64 rng(20261205);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const std::size_t n = 300;
-  std::vector<Vec3> x(n), v(n), w(n);
+  std::vector<Vec3> v(n), w(n);
   std::vector<double> r(n), m(n), im(n), ii(n);
   std::vector<int> mat(n);
   for (std::size_t a = 0; a < n; ++a) {
@@ -125,8 +125,7 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
     }
     pairs.push_back(pr);
   }
-  const ParticleArrays pa{x.data(), v.data(),  w.data(),  r.data(),
-                          m.data(), im.data(), ii.data(), mat.data()};
+  const ParticleArrays pa{v.data(), w.data(), r.data(), m.data(), im.data(), ii.data(), mat.data()};
   const double dt = 2e-6;
 
   int laws = 0;
