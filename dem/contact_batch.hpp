@@ -3,7 +3,10 @@
 // vectorises the contact law across contacts (issue 13).
 //
 // The pair loop (dem/simulation.cpp) tests distances one pair at a time and
-// appends each contact to a batch; a full batch is evaluated in two passes:
+// appends each contact to a batch without a branch (stage, then take); a full
+// batch is evaluated in three passes:
+//   0. gather(): the particle data and history of each contact are copied
+//      into the batch;
 //   1. evaluate(): one loop over the batch's contacts with no branch, reading
 //      and writing only the batch's own arrays (structure of arrays) and the
 //      pair coefficients. GCC vectorises it when every part of the law is
@@ -26,6 +29,7 @@
 #include "dem/vec3.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace demcal::dem {
@@ -63,9 +67,9 @@ struct ContactBatch {
   std::uint32_t pair[kCapacity];                       // index in the neighbour list (its history)
   double dx[kCapacity], dy[kCapacity], dz[kCapacity];  // x_i - (x_j + image shift)
   double dist2[kCapacity];
-  // In: what the law needs of i and j, copied here when the contact is added
-  // (the loop below then reads only contiguous arrays; GCC 12 would not
-  // vectorise it with gathers from the particle arrays).
+  // In: what the law needs of i and j, copied here by gather() (evaluate()
+  // then reads only contiguous arrays; GCC 12 would not vectorise it with
+  // gathers from the particle arrays).
   double r_i[kCapacity], r_j[kCapacity];
   double m_i[kCapacity], m_j[kCapacity];
   double im_i[kCapacity], im_j[kCapacity];                   // inverse masses
@@ -83,11 +87,19 @@ struct ContactBatch {
   double tj_x[kCapacity], tj_y[kCapacity], tj_z[kCapacity];
   double energy_j[kCapacity];
 
+  // Whether the pair of each slot touched at the last step: a pair that did
+  // not starts from a spring at rest, whatever its list entry still holds
+  // (the pair loop does not clear a parted pair's history).
+  std::uint8_t was_touching[kCapacity];
+
   bool full() const { return size == kCapacity; }
 
-  void add(std::uint32_t pi, std::uint32_t pj, std::uint32_t p, const Vec3& d, double d2,
-           const ContactHistory& h, const ParticleArrays& pa, int materials) {
-    const int l = size++;
+  // Writes a pair into the next free slot without taking it: the pair loop
+  // writes every pair it tests and takes only those in contact (size +=
+  // touching), so the contact test is not a branch the processor must guess.
+  void stage(std::uint32_t pi, std::uint32_t pj, std::uint32_t p, const Vec3& d, double d2,
+             bool touched_before) {
+    const int l = size;
     i[l] = static_cast<std::int32_t>(pi);
     j[l] = static_cast<std::int32_t>(pj);
     pair[l] = p;
@@ -95,32 +107,45 @@ struct ContactBatch {
     dy[l] = d.y;
     dz[l] = d.z;
     dist2[l] = d2;
-    r_i[l] = pa.radius_m[pi];
-    r_j[l] = pa.radius_m[pj];
-    m_i[l] = pa.mass_kg[pi];
-    m_j[l] = pa.mass_kg[pj];
-    im_i[l] = pa.inv_mass_kg[pi];
-    im_j[l] = pa.inv_mass_kg[pj];
-    ii_i[l] = pa.inv_inertia_kg_m2[pi];
-    ii_j[l] = pa.inv_inertia_kg_m2[pj];
-    const Vec3 dv = pa.velocity_m_s[pi] - pa.velocity_m_s[pj];
-    dv_x[l] = dv.x;
-    dv_y[l] = dv.y;
-    dv_z[l] = dv.z;
-    const Vec3 wi = pa.omega_rad_s[pi], wj = pa.omega_rad_s[pj];
-    wi_x[l] = wi.x;
-    wi_y[l] = wi.y;
-    wi_z[l] = wi.z;
-    wj_x[l] = wj.x;
-    wj_y[l] = wj.y;
-    wj_z[l] = wj.z;
-    coefficient[l] = pa.material[pi] * materials + pa.material[pj];
-    xi_x[l] = h.tangential_displacement_m.x;
-    xi_y[l] = h.tangential_displacement_m.y;
-    xi_z[l] = h.tangential_displacement_m.z;
-    mr_x[l] = h.rolling_torque_nm.x;
-    mr_y[l] = h.rolling_torque_nm.y;
-    mr_z[l] = h.rolling_torque_nm.z;
+    was_touching[l] = touched_before ? 1 : 0;
+  }
+
+  // Copies, for every taken contact, what the law needs of i and j and the
+  // contact's history (history is indexed by `pair`). Run before evaluate():
+  // a loop over contacts only, so its loads are not behind the contact test.
+  void gather(const ParticleArrays& pa, const ContactHistory* history, int materials) {
+    for (int l = 0; l < size; ++l) {
+      const auto pi = static_cast<std::size_t>(i[l]);
+      const auto pj = static_cast<std::size_t>(j[l]);
+      r_i[l] = pa.radius_m[pi];
+      r_j[l] = pa.radius_m[pj];
+      m_i[l] = pa.mass_kg[pi];
+      m_j[l] = pa.mass_kg[pj];
+      im_i[l] = pa.inv_mass_kg[pi];
+      im_j[l] = pa.inv_mass_kg[pj];
+      ii_i[l] = pa.inv_inertia_kg_m2[pi];
+      ii_j[l] = pa.inv_inertia_kg_m2[pj];
+      const Vec3 dv = pa.velocity_m_s[pi] - pa.velocity_m_s[pj];
+      dv_x[l] = dv.x;
+      dv_y[l] = dv.y;
+      dv_z[l] = dv.z;
+      const Vec3 wi = pa.omega_rad_s[pi], wj = pa.omega_rad_s[pj];
+      wi_x[l] = wi.x;
+      wi_y[l] = wi.y;
+      wi_z[l] = wi.z;
+      wj_x[l] = wj.x;
+      wj_y[l] = wj.y;
+      wj_z[l] = wj.z;
+      coefficient[l] = pa.material[pi] * materials + pa.material[pj];
+      const ContactHistory& h = history[pair[l]];
+      const bool kept = was_touching[l] != 0;
+      xi_x[l] = kept ? h.tangential_displacement_m.x : 0.0;
+      xi_y[l] = kept ? h.tangential_displacement_m.y : 0.0;
+      xi_z[l] = kept ? h.tangential_displacement_m.z : 0.0;
+      mr_x[l] = kept ? h.rolling_torque_nm.x : 0.0;
+      mr_y[l] = kept ? h.rolling_torque_nm.y : 0.0;
+      mr_z[l] = kept ? h.rolling_torque_nm.z : 0.0;
+    }
   }
 
   ContactHistory history(int l) const {

@@ -536,6 +536,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     ContactBatch& batch = contact_batches_[static_cast<std::size_t>(m)];
     batch.size = 0;
     auto flush = [&] {
+      batch.gather(pa, list.history, nm);
       evaluate(kernel, batch, coef, dt);
       for (int l = 0; l < batch.size; ++l) {
         const auto i = static_cast<std::size_t>(batch.i[l]);
@@ -554,33 +555,27 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     for (std::size_t i = own_begin; i < own_end; ++i) {
       const Vec3 xi = xp[i];
       const double ri = rp[i];
-      const int mi = matp[i];
       const std::uint32_t end = list.first[i + 1];
       for (std::uint32_t p = list.first[i]; p < end; ++p) {
         const std::uint32_t j = list.partner[p];
         const Vec3 d = xi - (xp[j] + list.shift_table[list.shift_code[p]]);
-        const double rj = rp[j];
-        const double rsum = ri + rj;
+        const double rsum = ri + rp[j];
         const double dist2 = norm2(d);
-        if (dist2 >= rsum * rsum) {
-          // Parted. A part of the law may still hold a contact that touched
-          // (adhesion); a law without such a part compiles to the plain test.
-          bool held = false;
-          if constexpr (Kernel::kHoldsBeyondTouching) {
-            if (list.touching[p])
-              held = kernel.holds(coef[mi * nm + matp[j]], ri * rj / rsum,
-                                  rsum - std::sqrt(dist2));
-          }
-          if (!held) {
-            if (list.touching[p]) {
-              list.touching[p] = 0;
-              list.history[p] = ContactHistory{};
-            }
-            continue;
-          }
+        // Written as "not parted" so that a NaN position counts as a contact
+        // and reaches the stability check through the forces.
+        bool on = !(dist2 >= rsum * rsum);
+        if constexpr (Kernel::kHoldsBeyondTouching) {
+          // A part of the law may still hold a contact that touched (adhesion).
+          if (!on && list.touching[p])
+            on = kernel.holds(coef[matp[i] * nm + matp[j]], ri * rp[j] / rsum,
+                              rsum - std::sqrt(dist2));
         }
-        list.touching[p] = 1;
-        batch.add(static_cast<std::uint32_t>(i), j, p, d, dist2, list.history[p], pa, nm);
+        // Every pair is staged and only a contact is taken, without a branch:
+        // about half the listed pairs touch, a branch no predictor guesses.
+        // A parted pair keeps its stale history; the flag says it is stale.
+        batch.stage(static_cast<std::uint32_t>(i), j, p, d, dist2, list.touching[p] != 0);
+        list.touching[p] = on ? 1 : 0;
+        batch.size += on ? 1 : 0;
         if (batch.full()) flush();
       }
     }

@@ -33,18 +33,17 @@ ThreadTeam::~ThreadTeam() {
 }
 
 void ThreadTeam::wait_while_equal(const std::atomic<std::uint32_t>& word, std::uint32_t old) {
-  const std::uint32_t budget = spin_budget_.load(std::memory_order_relaxed);
-  for (std::uint32_t s = 0; s < budget; ++s) {
-    if (word.load(std::memory_order_acquire) != old) {
-      if (budget < kMaxSpin)
-        spin_budget_.store(std::min(kMaxSpin, budget + budget / 4 + 1), std::memory_order_relaxed);
-      return;
+  // Spin for a fixed time, then sleep. The clock is read every 32 pauses
+  // (a pause lasts 10 to 140 cycles depending on the processor, so a count
+  // of pauses is no measure of time).
+  const auto give_up = std::chrono::steady_clock::now() + kSpinTime;
+  for (;;) {
+    for (int s = 0; s < 32; ++s) {
+      if (word.load(std::memory_order_acquire) != old) return;
+      cpu_relax();
     }
-    cpu_relax();
+    if (std::chrono::steady_clock::now() >= give_up) break;
   }
-  // Spinning did not pay: the thread we wait for is not running. Spin less
-  // next time and give the core away now.
-  spin_budget_.store(std::max(kMinSpin, budget / 2), std::memory_order_relaxed);
   while (word.load(std::memory_order_acquire) == old) word.wait(old, std::memory_order_acquire);
 }
 

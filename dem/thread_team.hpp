@@ -100,12 +100,14 @@ class ThreadTeam {
   alignas(64) std::atomic<std::uint32_t> next_chunk_{0};
   alignas(64) std::atomic<std::uint32_t> completed_{0};
   alignas(64) std::atomic<std::uint32_t> done_generation_{0};
-  // How many pause instructions a waiter spins before it sleeps. Adapts: it
-  // shrinks when spinning did not pay (the partner was descheduled, as on a
-  // shared machine) and grows back while waits end during the spin.
-  alignas(64) std::atomic<std::uint32_t> spin_budget_{kMaxSpin};
-  static constexpr std::uint32_t kMinSpin = 64;
-  static constexpr std::uint32_t kMaxSpin = 1u << 14;
+  // How long a waiter spins before it sleeps on the futex. Long enough to
+  // cover the gap between two runs of a step (tens to hundreds of
+  // microseconds), which a sleep and a wake-up would cost again: a budget that
+  // halved at every sleep, as up to 2026-12-05, settled at its floor and put a
+  // 2-thread pour to sleep at 40 % of its waits, 25 % slower (BENCHMARKS.md).
+  // On a shared machine the spin is not the cure (a descheduled partner
+  // cannot be waited out): worker parking is.
+  static constexpr std::chrono::microseconds kSpinTime{300};
 };
 
 }  // namespace demcal::dem
