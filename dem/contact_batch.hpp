@@ -57,7 +57,10 @@ struct ParticleArrays {
   const int* material;
 };
 
-struct ContactBatch {
+// Aligned to a cache line: each thread has its own batch, and batches side by
+// side in a vector must not share a line (a shared line bounced between the
+// cores at every pair: false sharing).
+struct alignas(64) ContactBatch {
   static constexpr int kCapacity = 64;
 
   int size = 0;
@@ -94,12 +97,13 @@ struct ContactBatch {
 
   bool full() const { return size == kCapacity; }
 
-  // Writes a pair into the next free slot without taking it: the pair loop
-  // writes every pair it tests and takes only those in contact (size +=
-  // touching), so the contact test is not a branch the processor must guess.
-  void stage(std::uint32_t pi, std::uint32_t pj, std::uint32_t p, const Vec3& d, double d2,
+  // Writes a pair into slot l (the next free one) without taking it: the pair
+  // loop writes every pair it tests and takes only those in contact (its
+  // count of taken slots += touching), so the contact test is not a branch
+  // the processor must guess. The loop keeps that count in a register and
+  // sets `size` before a flush.
+  void stage(int l, std::uint32_t pi, std::uint32_t pj, std::uint32_t p, const Vec3& d, double d2,
              bool touched_before) {
-    const int l = size;
     i[l] = static_cast<std::int32_t>(pi);
     j[l] = static_cast<std::int32_t>(pj);
     pair[l] = p;

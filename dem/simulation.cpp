@@ -315,11 +315,32 @@ void Simulation::split_ownership() {
   owner_begin_[0] = 0;
   window_end_.assign(static_cast<std::size_t>(chunks), n);
   if (chunks == 1) return;
-  // Cost of particles [0, i): their listed pairs plus one unit each for the
-  // particle itself; each chunk gets an equal share.
-  auto cost = [&](std::size_t i) {
-    return static_cast<double>(neighbors_.first(i)) + static_cast<double>(i);
-  };
+  // Each chunk gets an equal share of the force run's cost, estimated per
+  // particle in units of one listed pair's distance test: each listed pair 1,
+  // each of them in contact 3 more (copy into the batch, the law, adding the
+  // forces), each wall candidate 2 (its nearest point), each wall contact 8
+  // more (the law one contact at a time), the particle itself 1. The weights
+  // are the quick Sandglass's profile (BENCHMARKS.md, 2026-12-05 "night");
+  // counting pairs alone put a pile's floor contacts, all in the lowest
+  // particles, on one chunk. The contacts are the last step's (the flags the
+  // build carried over): state, not timing, so a run still repeats bit for
+  // bit at a given thread count.
+  std::vector<double>& prefix = ownership_cost_prefix_;
+  prefix.assign(n + 1, 0.0);
+  {
+    const NeighborList::Arrays list = neighbors_.arrays();
+    for (std::size_t i = 0; i < n; ++i) {
+      double w = 1.0;
+      for (std::uint32_t p = list.first[i]; p < list.first[i + 1]; ++p)
+        w += list.touching[p] ? 4.0 : 1.0;
+      prefix[i + 1] = w;
+    }
+    for (const WallCandidates& cand : wall_candidates_)
+      for (std::size_t c = 0; c < cand.particle.size(); ++c)
+        prefix[cand.particle[c] + 1] += cand.touching[c] ? 10.0 : 2.0;
+    for (std::size_t i = 0; i < n; ++i) prefix[i + 1] += prefix[i];
+  }
+  auto cost = [&](std::size_t i) { return prefix[i]; };
   const double total = cost(n);
   std::size_t lo = 0;
   for (int m = 1; m < chunks; ++m) {
@@ -343,6 +364,19 @@ void Simulation::split_ownership() {
         end = std::max<std::size_t>(end, neighbors_.partner(p) + 1);
     window_end_[static_cast<std::size_t>(m)] = end;
   }
+}
+
+std::size_t Simulation::slice_begin(int m) const {
+  // The kicks give chunk m the particles it owns in the force run while that
+  // split is current (no particle was added since the build): the core that
+  // moves a particle is then the one that reads it next, and positions and
+  // velocities need not travel between the cores' caches at every step.
+  // Which chunk updates a particle changes no result.
+  const std::size_t n = particles_.size();
+  if (owner_begin_.size() == static_cast<std::size_t>(team_->size()) + 1 &&
+      owner_begin_.back() == n)
+    return owner_begin_[static_cast<std::size_t>(m)];
+  return ThreadTeam::split(n, team_->size(), m);
 }
 
 void Simulation::step() {
@@ -376,8 +410,8 @@ void Simulation::step() {
   const int chunks = team_->size();
   team_->run([&](int m) {
     double max_move2 = 0.0;
-    const std::size_t end = ThreadTeam::split(n, chunks, m + 1);
-    for (std::size_t i = ThreadTeam::split(n, chunks, m); i < end; ++i) {
+    const std::size_t end = slice_begin(m + 1);
+    for (std::size_t i = slice_begin(m); i < end; ++i) {
       const Vec3 dv = (h * im[i]) * f[i];
       const Vec3 dw = (h * ii[i]) * t[i];
       x[i] += dt_ * (v[i] + dv);
@@ -552,6 +586,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       contacts += static_cast<std::size_t>(batch.size);
       batch.size = 0;
     };
+    int taken = 0;  // batch.size, kept out of memory in the loop
     for (std::size_t i = own_begin; i < own_end; ++i) {
       const Vec3 xi = xp[i];
       const double ri = rp[i];
@@ -573,12 +608,17 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         // Every pair is staged and only a contact is taken, without a branch:
         // about half the listed pairs touch, a branch no predictor guesses.
         // A parted pair keeps its stale history; the flag says it is stale.
-        batch.stage(static_cast<std::uint32_t>(i), j, p, d, dist2, list.touching[p] != 0);
+        batch.stage(taken, static_cast<std::uint32_t>(i), j, p, d, dist2, list.touching[p] != 0);
         list.touching[p] = on ? 1 : 0;
-        batch.size += on ? 1 : 0;
-        if (batch.full()) flush();
+        taken += on ? 1 : 0;
+        if (taken == ContactBatch::kCapacity) {
+          batch.size = taken;
+          flush();
+          taken = 0;
+        }
       }
     }
+    batch.size = taken;
     flush();
 
     for (std::size_t wi = 0; wi < nwalls; ++wi) {
@@ -587,6 +627,9 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       const Vec3 wall_velocity = wall.velocity_at(now);
       const Vec3 ref = wall.reference_point(now);
       const int mw = wall_material_[wi];
+      // Summed here and stored once: the chunks' load buffers are small
+      // vectors that may share a cache line.
+      WallLoad load;
       // The candidates of this chunk's particles (candidates are ascending).
       const auto c_begin = static_cast<std::size_t>(
           std::lower_bound(cand.particle.begin(), cand.particle.end(), own_begin) -
@@ -635,13 +678,13 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
         F[i] += fi;
         T[i] += cf.torque_i_nm - k.lever_i_m * cross(k.normal, cf.tangential_force_n);
-        WallLoad& load = my_loads[wi];
         load.force_n -= fi;
         load.torque_nm += cross(cp.point_m - ref, -fi) - cf.torque_i_nm;
         ++load.contacts;
         elastic += cf.elastic_energy_j;
         ++contacts;
       }
+      my_loads[wi] = load;
     }
     ChunkScratch& scratch = chunk_scratch_[m];
     scratch.elastic_j = elastic;
@@ -653,8 +696,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   // repeats bit for bit at a given thread count), the body forces, and what
   // the caller does with the new forces (the second kick).
   team_->run([&](int m) {
-    const std::size_t begin = ThreadTeam::split(n, chunks, m),
-                      end = ThreadTeam::split(n, chunks, m + 1);
+    const std::size_t begin = slice_begin(m), end = slice_begin(m + 1);
     if (chunks > 1) {
       for (std::size_t i = begin; i < end; ++i) {
         Vec3 fs, ts;

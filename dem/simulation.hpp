@@ -160,6 +160,8 @@ class Simulation {
   template <class Finish>
   void compute_forces(Finish&& finish);
   void split_ownership();
+  // First particle of chunk m's slice in the kicks (m = chunks gives n).
+  std::size_t slice_begin(int m) const;
   [[noreturn]] void report_instability(std::size_t particle) const;
   template <class Kernel, class Finish>
   void compute_contact_forces(const Kernel& kernel, Finish& finish);
@@ -198,6 +200,7 @@ class Simulation {
   // forces on particles up to window_end_[m] (its partners). Set at each build.
   std::vector<std::size_t> owner_begin_;
   std::vector<std::size_t> window_end_;
+  std::vector<double> ownership_cost_prefix_;  // scratch of split_ownership()
   // Per-chunk force buffers; summed in chunk order so results repeat exactly.
   std::vector<std::vector<Vec3>> thread_force_;
   std::vector<std::vector<Vec3>> thread_torque_;

@@ -19,9 +19,10 @@ ThreadTeam::ThreadTeam(int size, WorkerParking parking, WorkerParkingOptions par
     : size_(size), parking_(parking, parking_options) {
   if (size < 1) throw std::invalid_argument("a thread team needs at least one member");
   // No chunk is open until the first run.
-  next_chunk_.store(static_cast<std::uint32_t>(size), std::memory_order_relaxed);
+  chunk_claims_.reset(new ChunkClaim[static_cast<std::size_t>(size)]);
+  for (int c = 0; c < size; ++c) chunk_claims_[c].taken.store(1, std::memory_order_relaxed);
   workers_.reserve(static_cast<std::size_t>(size - 1));
-  for (int m = 1; m < size; ++m) workers_.emplace_back([this] { worker(); });
+  for (int m = 1; m < size; ++m) workers_.emplace_back([this, m] { worker(m); });
 }
 
 ThreadTeam::~ThreadTeam() {
@@ -47,11 +48,18 @@ void ThreadTeam::wait_while_equal(const std::atomic<std::uint32_t>& word, std::u
   while (word.load(std::memory_order_acquire) == old) word.wait(old, std::memory_order_acquire);
 }
 
-void ThreadTeam::work_on_chunks() {
+void ThreadTeam::work_on_chunks(int member) {
+  // Member m tries chunk m first, then the others: each thread then works on
+  // the same particles at every run of a step (the kicks and the force loop
+  // give chunk m the same particles), which stay in its core's cache. Any
+  // member may still take any chunk, so a late or descheduled thread's
+  // chunk is done by another and nobody waits for it.
   const auto chunks = static_cast<std::uint32_t>(size_);
-  for (;;) {
-    const std::uint32_t chunk = next_chunk_.fetch_add(1, std::memory_order_acq_rel);
-    if (chunk >= chunks) return;
+  for (std::uint32_t k = 0; k < chunks; ++k) {
+    const std::uint32_t chunk = (static_cast<std::uint32_t>(member) + k) % chunks;
+    std::atomic<std::uint32_t>& taken = chunk_claims_[chunk].taken;
+    if (taken.load(std::memory_order_relaxed) != 0) continue;
+    if (taken.exchange(1, std::memory_order_acq_rel) != 0) continue;
     call_(context_, static_cast<int>(chunk));
     if (completed_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) {
       done_generation_.fetch_add(1, std::memory_order_release);
@@ -63,25 +71,25 @@ void ThreadTeam::work_on_chunks() {
 void ThreadTeam::run_erased(Call call, void* context) {
   // Every chunk of the previous run is done (run waited for it), so no thread
   // is inside call_; a late worker may still try to claim, and claims succeed
-  // only once next_chunk_ is reset below, when call_ is already this run's.
+  // only once the chunks are opened below, when call_ is already this run's.
   call_ = call;
   context_ = context;
   completed_.store(0, std::memory_order_relaxed);
   const std::uint32_t done = done_generation_.load(std::memory_order_acquire);
-  next_chunk_.store(0, std::memory_order_release);
+  for (int c = 0; c < size_; ++c) chunk_claims_[c].taken.store(0, std::memory_order_release);
   start_generation_.fetch_add(1, std::memory_order_release);
   start_generation_.notify_all();
-  work_on_chunks();
+  work_on_chunks(0);
   wait_while_equal(done_generation_, done);
 }
 
-void ThreadTeam::worker() {
+void ThreadTeam::worker(int member) {
   std::uint32_t seen = 0;
   for (;;) {
     wait_while_equal(start_generation_, seen);
     seen = start_generation_.load(std::memory_order_acquire);
     if (stop_) return;
-    work_on_chunks();
+    work_on_chunks(member);
   }
 }
 

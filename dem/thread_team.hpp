@@ -12,8 +12,9 @@
 //
 // Here the work of a run is a fixed set of chunks, one per member of the
 // team, that any thread may take: the caller and the workers claim chunks
-// until none is left. When a worker is descheduled, or still asleep when the
-// run starts, the caller takes its chunk instead of waiting for it, so a
+// until none is left, each its own chunk first (so a thread keeps working on
+// the same particles, in its own core's cache, from run to run). When a worker is descheduled, or
+// still asleep when the run starts, the caller takes its chunk instead of waiting for it, so a
 // 2-thread run on a busy machine degrades to about the speed of one thread,
 // not below it. Chunk c is always the same work and writes the same buffers,
 // whichever thread runs it, so a run is bit-identical for a given thread
@@ -32,6 +33,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <type_traits>
 #include <vector>
@@ -82,9 +84,10 @@ class ThreadTeam {
  private:
   using Call = void (*)(void*, int);
   void run_erased(Call call, void* context);
-  void worker();
-  // Claims and runs chunks of the current run until none is left.
-  void work_on_chunks();
+  void worker(int member);
+  // Claims and runs chunks of the current run until none is left, its own
+  // chunk (= member) first.
+  void work_on_chunks(int member);
   // Spins briefly on `word` while it equals `old`, then sleeps until it changes.
   void wait_while_equal(const std::atomic<std::uint32_t>& word, std::uint32_t old);
 
@@ -97,7 +100,11 @@ class ThreadTeam {
   bool stop_ = false;
   // Each on its own cache line: they are the only words members write to.
   alignas(64) std::atomic<std::uint32_t> start_generation_{0};
-  alignas(64) std::atomic<std::uint32_t> next_chunk_{0};
+  // One claim flag per chunk, each on its own cache line; 0 = open.
+  struct alignas(64) ChunkClaim {
+    std::atomic<std::uint32_t> taken{1};
+  };
+  std::unique_ptr<ChunkClaim[]> chunk_claims_;
   alignas(64) std::atomic<std::uint32_t> completed_{0};
   alignas(64) std::atomic<std::uint32_t> done_generation_{0};
   // How long a waiter spins before it sleeps on the futex. Long enough to

@@ -186,11 +186,11 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
               const Pair& pr = pairs[q];
               // Staged as the pair loop does, with a parted pair between
               // every two contacts: it is written but not taken.
-              batch.stage(pr.i, pr.j, static_cast<std::uint32_t>(q), pr.d, norm2(pr.d),
+              batch.stage(batch.size, pr.i, pr.j, static_cast<std::uint32_t>(q), pr.d, norm2(pr.d),
                           touched[q] != 0);
               batch.size += 1;
               if (batch.full()) check();
-              batch.stage(pr.j, pr.i, 0, -pr.d, 1.0, true);
+              batch.stage(batch.size, pr.j, pr.i, 0, -pr.d, 1.0, true);
             }
             check();  // a part-filled last batch
             EXPECT_EQ(next, pairs.size());
