@@ -320,7 +320,7 @@ void Simulation::split_ownership() {
   // each of them in contact 3 more (copy into the batch, the law, adding the
   // forces), each wall candidate 2 (its nearest point), each wall contact 8
   // more (the law one contact at a time), the particle itself 1. The weights
-  // are the quick Sandglass's profile (BENCHMARKS.md, 2026-12-05 "night");
+  // are the quick Sandglass's profile (BENCHMARKS.md, 2026-12-05 (night));
   // counting pairs alone put a pile's floor contacts, all in the lowest
   // particles, on one chunk. The contacts are the last step's (the flags the
   // build carried over): state, not timing, so a run still repeats bit for
