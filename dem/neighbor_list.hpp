@@ -50,6 +50,10 @@ class NeighborList {
   std::uint32_t first(std::size_t i) const { return first_[i]; }
   std::uint32_t partner(std::size_t p) const { return partner_[p]; }
   const Vec3& image_shift(std::size_t p) const { return shift_table_[shift_code_[p]]; }
+  // A pair's history means something only while touching(p) is 1: the force
+  // loop does not clear the history of a pair that parts (it starts the next
+  // contact of that pair from rest instead, dem/contact_batch.hpp), and a
+  // build carries over the histories of touching pairs only.
   ContactHistory& history(std::size_t p) { return history_[p]; }
   std::uint8_t& touching(std::size_t p) { return touching_[p]; }
 
