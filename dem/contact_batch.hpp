@@ -20,13 +20,13 @@
 // form (no fused multiply–add: the engine is built with -ffp-contract=off),
 // so a batched run repeats the unbatched one bit for bit, on any x86-64.
 //
-// evaluate() is compiled for three instruction sets (AVX-512, AVX2, the
-// x86-64 baseline) and the loader picks the best the processor has, so one
-// portable binary runs 8, 4 or 2 contacts per instruction.
+// evaluate() is compiled for three instruction sets (dem/vector_clones.hpp),
+// so one portable binary runs 8, 4 or 2 contacts per instruction.
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/contact/pair_coefficients.hpp"
 #include "dem/vec3.hpp"
+#include "dem/vector_clones.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -34,20 +34,9 @@
 
 namespace demcal::dem {
 
-// Versions of a hot loop for wider vector units, chosen at load time. Not
-// under the sanitizers (their run-time cannot intercept the ifunc resolver
-// early enough) nor with compilers other than GCC.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define DEMCAL_VECTOR_CLONES \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define DEMCAL_VECTOR_CLONES
-#endif
-
-// The particle data a batch copies, as raw arrays (indexed by particle); the
-// separation comes from the distance test.
+// The particle data a batch copies, as raw arrays (indexed by particle).
 struct ParticleArrays {
+  const Vec3* position_m;
   const Vec3* velocity_m_s;
   const Vec3* omega_rad_s;
   const double* radius_m;
@@ -57,6 +46,15 @@ struct ParticleArrays {
   const int* material;
 };
 
+// The neighbour list's arrays a batch reads, indexed by pair
+// (dem/neighbor_list.hpp).
+struct ListedPairs {
+  const std::uint32_t* partner;
+  const std::uint8_t* shift_code;  // the partner's periodic image: an index in shift_table
+  const Vec3* shift_table;
+  const ContactHistory* history;
+};
+
 // Aligned to a cache line: each thread has its own batch, and batches side by
 // side in a vector must not share a line (a shared line bounced between the
 // cores at every pair: false sharing).
@@ -64,12 +62,14 @@ struct alignas(64) ContactBatch {
   static constexpr int kCapacity = 64;
 
   int size = 0;
-  // In: the pair and what the distance test already computed.
-  std::int32_t i[kCapacity];  // the particles, read back when the forces are added
+  // In: the pair. The pair loop writes every listed pair, touching or not,
+  // so it writes as little as it can; gather() looks up the rest.
+  std::int32_t i[kCapacity];      // read back when the forces are added
+  std::uint32_t pair[kCapacity];  // index in the neighbour list
+  // In: set by gather(). The separation is computed again, by the same
+  // operations as the distance test, so it is the same to the last bit.
   std::int32_t j[kCapacity];
-  std::uint32_t pair[kCapacity];                       // index in the neighbour list (its history)
   double dx[kCapacity], dy[kCapacity], dz[kCapacity];  // x_i - (x_j + image shift)
-  double dist2[kCapacity];
   // In: what the law needs of i and j, copied here by gather() (evaluate()
   // then reads only contiguous arrays; GCC 12 would not vectorise it with
   // gathers from the particle arrays).
@@ -102,25 +102,25 @@ struct alignas(64) ContactBatch {
   // count of taken slots += touching), so the contact test is not a branch
   // the processor must guess. The loop keeps that count in a register and
   // sets `size` before a flush.
-  void stage(int l, std::uint32_t pi, std::uint32_t pj, std::uint32_t p, const Vec3& d, double d2,
-             bool touched_before) {
+  void stage(int l, std::uint32_t pi, std::uint32_t p, bool touched_before) {
     i[l] = static_cast<std::int32_t>(pi);
-    j[l] = static_cast<std::int32_t>(pj);
     pair[l] = p;
-    dx[l] = d.x;
-    dy[l] = d.y;
-    dz[l] = d.z;
-    dist2[l] = d2;
     was_touching[l] = touched_before ? 1 : 0;
   }
 
-  // Copies, for every taken contact, what the law needs of i and j and the
-  // contact's history (history is indexed by `pair`). Run before evaluate():
+  // Copies, for every taken contact, its partner and separation, what the
+  // law needs of i and j, and the contact's history. Run before evaluate():
   // a loop over contacts only, so its loads are not behind the contact test.
-  void gather(const ParticleArrays& pa, const ContactHistory* history, int materials) {
+  void gather(const ParticleArrays& pa, const ListedPairs& list, int materials) {
     for (int l = 0; l < size; ++l) {
+      const std::uint32_t p = pair[l];
       const auto pi = static_cast<std::size_t>(i[l]);
-      const auto pj = static_cast<std::size_t>(j[l]);
+      const auto pj = static_cast<std::size_t>(list.partner[p]);
+      j[l] = static_cast<std::int32_t>(pj);
+      const Vec3 d = pa.position_m[pi] - (pa.position_m[pj] + list.shift_table[list.shift_code[p]]);
+      dx[l] = d.x;
+      dy[l] = d.y;
+      dz[l] = d.z;
       r_i[l] = pa.radius_m[pi];
       r_j[l] = pa.radius_m[pj];
       m_i[l] = pa.mass_kg[pi];
@@ -141,7 +141,7 @@ struct alignas(64) ContactBatch {
       wj_y[l] = wj.y;
       wj_z[l] = wj.z;
       coefficient[l] = pa.material[pi] * materials + pa.material[pj];
-      const ContactHistory& h = history[pair[l]];
+      const ContactHistory& h = list.history[p];
       const bool kept = was_touching[l] != 0;
       xi_x[l] = kept ? h.tangential_displacement_m.x : 0.0;
       xi_y[l] = kept ? h.tangential_displacement_m.y : 0.0;
@@ -172,8 +172,8 @@ DEMCAL_VECTOR_CLONES void evaluate(const Kernel& kernel, ContactBatch& b,
   for (int l = 0; l < count; ++l) {
     const double ri = b.r_i[l], rj = b.r_j[l];
     const double rsum = ri + rj;
-    const double dist = std::sqrt(b.dist2[l]);
     const Vec3 d{b.dx[l], b.dy[l], b.dz[l]};
+    const double dist = std::sqrt(norm2(d));  // as the distance test computed it
     const Vec3 wi{b.wi_x[l], b.wi_y[l], b.wi_z[l]};
     const Vec3 wj{b.wj_x[l], b.wj_y[l], b.wj_z[l]};
     ContactKinematics k;

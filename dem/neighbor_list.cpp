@@ -115,9 +115,17 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
               cc[0] + nc[0] * (cc[1] + static_cast<std::size_t>(nc[1]) * cc[2]);
           const int code = shift_code(img[0], img[1], img[2]);
           const Vec3& s = shift_table_[code];
-          for (std::uint32_t q = cell_start_[cell]; q < cell_start_[cell + 1]; ++q) {
-            const std::uint32_t j = cell_particles_[q];
-            if (j <= i) continue;
+          // A cell lists its particles in ascending order, so its partners
+          // j > i are a tail of its range: start there. In spatial order a
+          // neighbouring cell holds either only lower or only higher indices,
+          // which halves the candidates without changing the list.
+          const std::uint32_t* const cell_begin = cell_particles_.data() + cell_start_[cell];
+          const std::uint32_t* const cell_end = cell_particles_.data() + cell_start_[cell + 1];
+          if (cell_begin == cell_end || cell_end[-1] <= i) continue;
+          const std::uint32_t* q0 = cell_begin;
+          if (*q0 <= i) q0 = std::upper_bound(cell_begin, cell_end, static_cast<std::uint32_t>(i));
+          for (const std::uint32_t* q = q0; q < cell_end; ++q) {
+            const std::uint32_t j = *q;
             const Vec3 d = pos[i] - (pos[j] + s);
             const double reach = radius[i] + radius[j] + skin_m;
             if (norm2(d) < reach * reach) visit(j, code);

@@ -1,6 +1,9 @@
 #include "dem/simulation.hpp"
 
+#include "dem/verlet_kicks.hpp"
+
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -386,7 +389,6 @@ void Simulation::step() {
   if (particles_.size() != before) rebuild_requested_ = true;
 
   const std::size_t n = particles_.size();
-  const double h = 0.5 * dt_;
   auto& x = particles_.position_m;
   auto& v = particles_.velocity_m_s;
   auto& w = particles_.omega_rad_s;
@@ -402,33 +404,29 @@ void Simulation::step() {
   // predicted from the last force, and the second kick corrects the prediction:
   // positions, and velocities in conservative systems, are plain Verlet's.
   // Each parallel region is a fork and a join; the displacement check for the
-  // Verlet list rides along in the drift loop rather than in a loop of its own.
+  // Verlet list rides along in the drift's team run (dem/verlet_kicks.hpp).
+  // The kick needs the last step's force and torque after the new ones are
+  // computed: the buffers are swapped rather than copied (compute_forces()
+  // writes every particle's force and torque).
   force_before_.resize(n);
   torque_before_.resize(n);
   const auto& x_build = neighbors_.positions_at_build();
-  const bool comparable = x_build.size() == n;
+  const Vec3* const x_build_or_null = x_build.size() == n ? x_build.data() : nullptr;
+  const bool comparable = x_build_or_null != nullptr;
   const int chunks = team_->size();
+  const KickArrays before_build{x.data(), v.data(), w.data(), im.data(), ii.data()};
+  const double half_skin = 0.5 * neighbors_.skin_m();
   team_->run([&](int m) {
-    double max_move2 = 0.0;
-    const std::size_t end = slice_begin(m + 1);
-    for (std::size_t i = slice_begin(m); i < end; ++i) {
-      const Vec3 dv = (h * im[i]) * f[i];
-      const Vec3 dw = (h * ii[i]) * t[i];
-      x[i] += dt_ * (v[i] + dv);
-      v[i] += 2.0 * dv;
-      w[i] += 2.0 * dw;
-      force_before_[i] = f[i];
-      torque_before_[i] = t[i];
-      if (comparable) max_move2 = std::max(max_move2, norm2(x[i] - x_build[i]));
-    }
-    chunk_scratch_[m].max_move2 = max_move2;
+    chunk_scratch_[m].moved_beyond_half_skin =
+        kick_and_drift(before_build, f.data(), t.data(), x_build_or_null, half_skin, slice_begin(m),
+                       slice_begin(m + 1), dt_);
   });
-  double max_move2 = 0.0;
-  for (int m = 0; m < chunks; ++m) max_move2 = std::max(max_move2, chunk_scratch_[m].max_move2);
+  particles_.force_n.swap(force_before_);
+  particles_.torque_nm.swap(torque_before_);
+  bool rebuild = rebuild_requested_ || !comparable;
+  for (int m = 0; m < chunks; ++m) rebuild = rebuild || chunk_scratch_[m].moved_beyond_half_skin;
   time_s_ += dt_;
 
-  const double half_skin = 0.5 * neighbors_.skin_m();
-  bool rebuild = rebuild_requested_ || !comparable || max_move2 > half_skin * half_skin;
   for (std::size_t k = 0; k < walls_.size() && !rebuild; ++k)
     if (walls_[k]->motion().moves() && norm(walls_[k]->motion().displacement_m(time_s_) -
                                             wall_offset_at_build_[k]) > 0.5 * skin_m_)
@@ -442,18 +440,17 @@ void Simulation::step() {
   // Forces, then the second kick and the stability check on the same pass
   // over the particles, inside the force computation's team run.
   const Domain& dom = options_.domain;
-  const double vmax2 = max_speed_m_s_ * max_speed_m_s_;
+  StabilityBounds bounds;
+  for (int k = 0; k < 3; ++k) {
+    bounds.lower_m[k] = dom.periodic[k] ? -DBL_MAX : dom.lower_m[k];
+    bounds.upper_m[k] = dom.periodic[k] ? DBL_MAX : dom.upper_m[k];
+  }
+  bounds.max_speed2_m2_s2 = max_speed_m_s_ * max_speed_m_s_;
+  // A build may have reordered the particles: their arrays are new.
+  const KickArrays arrays{x.data(), v.data(), w.data(), im.data(), ii.data()};
   compute_forces([&](std::size_t begin, std::size_t end) {
-    std::size_t first_bad = n;
-    for (std::size_t i = begin; i < end; ++i) {
-      v[i] += (h * im[i]) * (f[i] - force_before_[i]);
-      w[i] += (h * ii[i]) * (t[i] - torque_before_[i]);
-      bool bad = !is_finite(x[i]) || !is_finite(v[i]) || norm2(v[i]) > vmax2;
-      for (int k = 0; k < 3; ++k)
-        if (!dom.periodic[k] && !dom.inside(x[i], k)) bad = true;
-      if (bad) first_bad = std::min(first_bad, i);
-    }
-    return first_bad;
+    return correct_and_check(arrays, f.data(), force_before_.data(), t.data(),
+                             torque_before_.data(), begin, end, dt_, bounds, n);
   });
   std::size_t first_bad = n;
   for (int m = 0; m < chunks; ++m) first_bad = std::min(first_bad, chunk_scratch_[m].first_bad);
@@ -566,11 +563,12 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     Vec3* const Tp = T.data();
     // Contacts are evaluated a batch at a time (dem/contact_batch.hpp) and
     // added to the particles in the order they were found.
-    const ParticleArrays pa{vp, wp, rp, mp, imp, iip, matp};
+    const ParticleArrays pa{xp, vp, wp, rp, mp, imp, iip, matp};
+    const ListedPairs listed{list.partner, list.shift_code, list.shift_table, list.history};
     ContactBatch& batch = contact_batches_[static_cast<std::size_t>(m)];
     batch.size = 0;
     auto flush = [&] {
-      batch.gather(pa, list.history, nm);
+      batch.gather(pa, listed, nm);
       evaluate(kernel, batch, coef, dt);
       for (int l = 0; l < batch.size; ++l) {
         const auto i = static_cast<std::size_t>(batch.i[l]);
@@ -608,7 +606,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         // Every pair is staged and only a contact is taken, without a branch:
         // about half the listed pairs touch, a branch no predictor guesses.
         // A parted pair keeps its stale history; the flag says it is stale.
-        batch.stage(taken, static_cast<std::uint32_t>(i), j, p, d, dist2, list.touching[p] != 0);
+        batch.stage(taken, static_cast<std::uint32_t>(i), p, list.touching[p] != 0);
         list.touching[p] = on ? 1 : 0;
         taken += on ? 1 : 0;
         if (taken == ContactBatch::kCapacity) {

@@ -188,7 +188,7 @@ class Simulation {
   std::unique_ptr<ThreadTeam> team_;
   // What each chunk of a team run reports.
   struct alignas(64) ChunkScratch {
-    double max_move2 = 0.0;
+    bool moved_beyond_half_skin = false;  // since the last neighbour build
     double elastic_j = 0.0;
     std::size_t contacts = 0;
     std::size_t first_bad = 0;

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <random>
 #include <string>
@@ -130,7 +131,33 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
   // far out), and the batch must start it from rest.
   std::vector<ContactHistory> listed(pairs.size());
   std::vector<std::uint8_t> touched(pairs.size());
+  std::vector<std::uint32_t> partner(pairs.size());
+  std::vector<std::uint8_t> code(pairs.size());
+  // The batch computes each separation from the positions and the partner's
+  // periodic image, as the pair loop does. Each particle is the partner of at
+  // most one pair, and of a lower one: the positions are laid out along the
+  // pairs so that each pair is separated by its d through its image (the
+  // separation recomputed from them may differ from d in the last bits; the
+  // law applied alone gets the recomputed one).
+  std::array<Vec3, 27> shift_table{};
+  for (int c = 0; c < 27; ++c)
+    shift_table[static_cast<std::size_t>(c)] = {0.05 * (c % 3 - 1), 0.05 * (c / 3 % 3 - 1),
+                                                0.05 * (c / 9 - 1)};
+  std::vector<Vec3> x(n);
+  std::vector<bool> placed(n, false);
   for (std::size_t q = 0; q < pairs.size(); ++q) {
+    Pair& pr = pairs[q];
+    code[q] = static_cast<std::uint8_t>(q % 27);
+    const Vec3 shift = shift_table[code[q]];
+    if (!placed[pr.i]) x[pr.i] = {0.01 * u(rng), 0.01 * u(rng), 0.01 * u(rng)};
+    placed[pr.i] = true;
+    ASSERT_FALSE(placed[pr.j]) << "particle " << pr.j << " is the partner of two pairs";
+    x[pr.j] = x[pr.i] - pr.d - shift;
+    placed[pr.j] = true;
+    pr.d = x[pr.i] - (x[pr.j] + shift);
+  }
+  for (std::size_t q = 0; q < pairs.size(); ++q) {
+    partner[q] = static_cast<std::uint32_t>(pairs[q].j);
     touched[q] = pairs[q].i % 5 != 0 ? 1 : 0;
     listed[q] = pairs[q].h;
     if (!touched[q]) {
@@ -138,7 +165,9 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
       listed[q].rolling_torque_nm = {-4.0, 5.0, -6.0};
     }
   }
-  const ParticleArrays pa{v.data(), w.data(), r.data(), m.data(), im.data(), ii.data(), mat.data()};
+  const ParticleArrays pa{x.data(), v.data(),  w.data(),  r.data(),
+                          m.data(), im.data(), ii.data(), mat.data()};
+  const ListedPairs list{partner.data(), code.data(), shift_table.data(), listed.data()};
   const double dt = 2e-6;
 
   int laws = 0;
@@ -160,7 +189,7 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
             std::size_t next = 0;
             int mismatches = 0;
             auto check = [&] {
-              batch.gather(pa, listed.data(), nm);
+              batch.gather(pa, list, nm);
               evaluate(kernel, batch, table.data(), dt);
               for (int l = 0; l < batch.size; ++l) {
                 const Pair& pr = pairs[next++];
@@ -186,11 +215,10 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
               const Pair& pr = pairs[q];
               // Staged as the pair loop does, with a parted pair between
               // every two contacts: it is written but not taken.
-              batch.stage(batch.size, pr.i, pr.j, static_cast<std::uint32_t>(q), pr.d, norm2(pr.d),
-                          touched[q] != 0);
+              batch.stage(batch.size, pr.i, static_cast<std::uint32_t>(q), touched[q] != 0);
               batch.size += 1;
               if (batch.full()) check();
-              batch.stage(batch.size, pr.j, pr.i, 0, -pr.d, 1.0, true);
+              batch.stage(batch.size, pr.j, 0, true);
             }
             check();  // a part-filled last batch
             EXPECT_EQ(next, pairs.size());
