@@ -95,12 +95,14 @@ DEMCAL_VECTOR_CLONES std::size_t correct_and_check(
     // Each comparison is false for NaN; the bounds are finite, so a position
     // inside them is finite, and a speed within vmax is finite unless vmax
     // itself is infinite (then the component tests catch it).
+    // The tests are combined as integers: "&" on bools is what the loop
+    // needs (no branch), but clang warns about it.
     const double px = x[i].x, py = x[i].y, pz = x[i].z;
-    const bool inside =
-        (lo.x <= px) & (px <= hi.x) & (lo.y <= py) & (py <= hi.y) & (lo.z <= pz) & (pz <= hi.z);
-    const bool finite_v =
-        (std::abs(vx) <= DBL_MAX) & (std::abs(vy) <= DBL_MAX) & (std::abs(vz) <= DBL_MAX);
-    const bool ok = inside & finite_v & (vx * vx + vy * vy + vz * vz <= vmax2);
+    const int inside = int{lo.x <= px} & int{px <= hi.x} & int{lo.y <= py} & int{py <= hi.y} &
+                       int{lo.z <= pz} & int{pz <= hi.z};
+    const double ax = std::abs(vx), ay = std::abs(vy), az = std::abs(vz);
+    const int finite_v = int{ax <= DBL_MAX} & int{ay <= DBL_MAX} & int{az <= DBL_MAX};
+    const int ok = inside & finite_v & int{vx * vx + vy * vy + vz * vz <= vmax2};
     first_bad = std::min(first_bad, ok ? none : i);
   }
   return first_bad;
