@@ -5,8 +5,9 @@
 // The pair loop (dem/simulation.cpp) tests distances one pair at a time and
 // appends each contact to a batch without a branch (stage, then take); a full
 // batch is evaluated in three passes:
-//   0. gather(): the particle data and history of each contact are copied
-//      into the batch;
+//   0. gather(): each contact's partner and separation (recomputed as the
+//      distance test computed them), the particle data and the history are
+//      copied into the batch;
 //   1. evaluate(): one loop over the batch's contacts with no branch, reading
 //      and writing only the batch's own arrays (structure of arrays) and the
 //      pair coefficients. GCC vectorises it when every part of the law is
