@@ -1,7 +1,8 @@
 #pragma once
 // The simulation box. Along a periodic axis particles leaving one face enter
 // through the opposite one and contacts act across it; along a bounded axis a
-// particle outside the box is an error (it escaped the walls).
+// particle outside the box is an error (it escaped the walls; the integrator's
+// stability check, dem/verlet_kicks.hpp, tests each step against these bounds).
 
 #include "dem/vec3.hpp"
 
@@ -15,9 +16,6 @@ struct Domain {
   std::array<bool, 3> periodic{false, false, false};
 
   Vec3 length_m() const { return upper_m - lower_m; }
-  bool inside(const Vec3& p, int axis) const {
-    return p[axis] >= lower_m[axis] && p[axis] <= upper_m[axis];
-  }
   // Throws std::invalid_argument when the box is empty or not finite.
   void validate() const;
 };

@@ -1,5 +1,6 @@
 #include "dem/simulation.hpp"
 
+#include "dem/pair_scan.hpp"
 #include "dem/verlet_kicks.hpp"
 
 #include <algorithm>
@@ -584,40 +585,44 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       contacts += static_cast<std::size_t>(batch.size);
       batch.size = 0;
     };
-    int taken = 0;  // batch.size, kept out of memory in the loop
-    for (std::size_t i = own_begin; i < own_end; ++i) {
-      const Vec3 xi = xp[i];
-      const double ri = rp[i];
-      const std::uint32_t end = list.first[i + 1];
-      for (std::uint32_t p = list.first[i]; p < end; ++p) {
-        const std::uint32_t j = list.partner[p];
-        const Vec3 d = xi - (xp[j] + list.shift_table[list.shift_code[p]]);
-        const double rsum = ri + rp[j];
-        const double dist2 = norm2(d);
-        // Written as "not parted" so that a NaN position counts as a contact
-        // and reaches the stability check through the forces.
-        bool on = !(dist2 >= rsum * rsum);
-        if constexpr (Kernel::kHoldsBeyondTouching) {
-          // A part of the law may still hold a contact that touched (adhesion).
+    if constexpr (!Kernel::kHoldsBeyondTouching) {
+      PairScanCursor cursor{own_begin, own_begin < own_end ? list.first[own_begin] : 0};
+      for (;;) {
+        stage_touching_pairs(list, xp, rp, own_end, cursor, batch);
+        if (!batch.full()) break;
+        flush();
+      }
+      flush();
+    } else {
+      int taken = 0;  // batch.size, kept out of memory in the loop
+      for (std::size_t i = own_begin; i < own_end; ++i) {
+        const Vec3 xi = xp[i];
+        const double ri = rp[i];
+        const std::uint32_t end = list.first[i + 1];
+        for (std::uint32_t p = list.first[i]; p < end; ++p) {
+          const std::uint32_t j = list.partner[p];
+          const Vec3 d = xi - (xp[j] + list.shift_table[list.shift_code[p]]);
+          const double rsum = ri + rp[j];
+          const double dist2 = norm2(d);
+          // As in stage_touching_pairs (dem/pair_scan.hpp); then a part of
+          // the law may still hold a contact that touched (adhesion).
+          bool on = !(dist2 >= rsum * rsum);
           if (!on && list.touching[p])
             on = kernel.holds(coef[matp[i] * nm + matp[j]], ri * rp[j] / rsum,
                               rsum - std::sqrt(dist2));
-        }
-        // Every pair is staged and only a contact is taken, without a branch:
-        // about half the listed pairs touch, a branch no predictor guesses.
-        // A parted pair keeps its stale history; the flag says it is stale.
-        batch.stage(taken, static_cast<std::uint32_t>(i), p, list.touching[p] != 0);
-        list.touching[p] = on ? 1 : 0;
-        taken += on ? 1 : 0;
-        if (taken == ContactBatch::kCapacity) {
-          batch.size = taken;
-          flush();
-          taken = 0;
+          batch.stage(taken, static_cast<std::uint32_t>(i), p, list.touching[p] != 0);
+          list.touching[p] = on ? 1 : 0;
+          taken += on ? 1 : 0;
+          if (taken == ContactBatch::kCapacity) {
+            batch.size = taken;
+            flush();
+            taken = 0;
+          }
         }
       }
+      batch.size = taken;
+      flush();
     }
-    batch.size = taken;
-    flush();
 
     for (std::size_t wi = 0; wi < nwalls; ++wi) {
       const Wall& wall = *walls_[wi];
