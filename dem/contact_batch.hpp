@@ -2,7 +2,7 @@
 // Particle–particle contacts evaluated in batches, so that the compiler
 // vectorises the contact law across contacts (issue 13).
 //
-// The pair loop (dem/simulation.cpp) tests distances one pair at a time and
+// The pair loop (dem/pair_scan.hpp) tests distances one pair at a time and
 // appends each contact to a batch without a branch (stage, then take); a full
 // batch is evaluated in three passes:
 //   0. gather(): each contact's partner and separation (recomputed as the
