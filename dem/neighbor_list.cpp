@@ -67,7 +67,8 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   // Counting sort of particles into cells (serial: O(n), negligible).
   cell_of_.resize(n);
   cell_start_.assign(total_cells + 1, 0);
-  std::vector<std::array<int, 3>> coord(n);
+  std::vector<std::array<int, 3>>& coord = cell_coord_;
+  coord.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::array<int, 3> c{};
     for (int k = 0; k < 3; ++k) {
@@ -80,14 +81,13 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   }
   for (std::size_t c = 0; c < total_cells; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_particles_.resize(n);
-  {
-    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      cell_particles_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
-  }
+  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    cell_particles_[fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
 
-  // Visits the candidate neighbours j > i of particle i with their image code.
-  auto for_each_neighbor = [&](std::size_t i, auto&& visit) {
+  // Visits, for particle i, each neighbouring cell's candidates j > i as a
+  // range, with the image code under which they are met.
+  auto for_each_candidate_range = [&](std::size_t i, auto&& visit) {
     const auto& c = coord[i];
     for (int oz = -1; oz <= 1; ++oz) {
       for (int oy = -1; oy <= 1; ++oy) {
@@ -113,8 +113,6 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
           // same cell through different images; all three are distinct shifts.
           const std::size_t cell =
               cc[0] + nc[0] * (cc[1] + static_cast<std::size_t>(nc[1]) * cc[2]);
-          const int code = shift_code(img[0], img[1], img[2]);
-          const Vec3& s = shift_table_[code];
           // A cell lists its particles in ascending order, so its partners
           // j > i are a tail of its range: start there. In spatial order a
           // neighbouring cell holds either only lower or only higher indices,
@@ -124,12 +122,7 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
           if (cell_begin == cell_end || cell_end[-1] <= i) continue;
           const std::uint32_t* q0 = cell_begin;
           if (*q0 <= i) q0 = std::upper_bound(cell_begin, cell_end, static_cast<std::uint32_t>(i));
-          for (const std::uint32_t* q = q0; q < cell_end; ++q) {
-            const std::uint32_t j = *q;
-            const Vec3 d = pos[i] - (pos[j] + s);
-            const double reach = radius[i] + radius[j] + skin_m;
-            if (norm2(d) < reach * reach) visit(j, code);
-          }
+          visit(q0, cell_end, shift_code(img[0], img[1], img[2]));
         }
       }
     }
@@ -142,31 +135,60 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   count_.assign(n + 1, 0);
   for_each_member([&](int m, std::size_t begin, std::size_t end) {
     Found& f = found_[static_cast<std::size_t>(m)];
-    f.partner.clear();
-    f.code.clear();
+    f.count = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      const std::size_t before = f.partner.size();
-      for_each_neighbor(i, [&](std::uint32_t j, int code) {
-        f.partner.push_back(j);
-        f.code.push_back(static_cast<std::uint8_t>(code));
+      const std::size_t before = f.count;
+      const Vec3 xi = pos[i];
+      const double ri = radius[i];
+      for_each_candidate_range(i, [&](const std::uint32_t* q0, const std::uint32_t* q1, int code) {
+        const std::size_t room = f.count + static_cast<std::size_t>(q1 - q0);
+        if (f.partner.size() < room) {
+          const std::size_t grown = std::max(room, 2 * f.partner.size());
+          f.partner.resize(grown);
+          f.code.resize(grown);
+        }
+        // Every candidate is written and only a neighbour is kept: whether a
+        // candidate is within reach is a branch no predictor guesses.
+        std::uint32_t* const partner_out = f.partner.data();
+        std::uint8_t* const code_out = f.code.data();
+        const Vec3 s = shift_table_[code];
+        std::size_t kept = f.count;
+        for (const std::uint32_t* q = q0; q < q1; ++q) {
+          const std::uint32_t j = *q;
+          const Vec3 d = xi - (pos[j] + s);
+          const double reach = ri + radius[j] + skin_m;
+          partner_out[kept] = j;
+          code_out[kept] = static_cast<std::uint8_t>(code);
+          kept += norm2(d) < reach * reach ? 1 : 0;
+        }
+        f.count = kept;
       });
-      count_[i + 1] = static_cast<std::uint32_t>(f.partner.size() - before);
+      count_[i + 1] = static_cast<std::uint32_t>(f.count - before);
     }
   });
-  std::vector<std::uint32_t> first(n + 1, 0);
+  std::vector<std::uint32_t>& first = spare_first_;
+  first.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) first[i + 1] = first[i] + count_[i + 1];
   const std::size_t pairs = first[n];
 
-  std::vector<std::uint32_t> partner(pairs);
-  std::vector<std::uint8_t> codes(pairs);
-  std::vector<ContactHistory> history(pairs);
-  std::vector<std::uint8_t> touching(pairs, 0);
+  // The new list goes into the spare arrays (their memory is reused). Only
+  // the histories of touching pairs are carried; the rest are left as they
+  // are, meaningless while their pair is not touching (see history()).
+  std::vector<std::uint32_t>& partner = spare_partner_;
+  std::vector<std::uint8_t>& codes = spare_shift_code_;
+  std::vector<ContactHistory>& history = spare_history_;
+  std::vector<std::uint8_t>& touching = spare_touching_;
+  partner.resize(pairs);
+  codes.resize(pairs);
+  history.resize(pairs);
+  touching.assign(pairs, 0);
   const std::size_t old_n = first_.empty() ? 0 : first_.size() - 1;
 
   for_each_member([&](int m, std::size_t begin, std::size_t end) {
     const Found& f = found_[static_cast<std::size_t>(m)];
-    std::copy(f.partner.begin(), f.partner.end(), partner.begin() + first[begin]);
-    std::copy(f.code.begin(), f.code.end(), codes.begin() + first[begin]);
+    const auto kept = static_cast<std::ptrdiff_t>(f.count);
+    std::copy(f.partner.begin(), f.partner.begin() + kept, partner.begin() + first[begin]);
+    std::copy(f.code.begin(), f.code.begin() + kept, codes.begin() + first[begin]);
     // Carry the history of the pairs that were touching. Pairs are matched by
     // partner alone: with the slab at least two cut-offs thick a pair meets
     // through one image only, and that image changes when a particle is wrapped.
@@ -184,11 +206,11 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
     }
   });
 
-  first_ = std::move(first);
-  partner_ = std::move(partner);
-  shift_code_ = std::move(codes);
-  history_ = std::move(history);
-  touching_ = std::move(touching);
+  first_.swap(first);
+  partner_.swap(partner);
+  shift_code_.swap(codes);
+  history_.swap(history);
+  touching_.swap(touching);
   position_at_build_ = pos;
 }
 
@@ -201,16 +223,22 @@ void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
     throw std::invalid_argument("NeighborList::renumber: " + std::to_string(n) +
                                 " new indices for " + std::to_string(listed) + " listed particles");
   const std::size_t pairs = partner_.size();
-  std::vector<std::uint32_t> first(n + 1, 0);
+  std::vector<std::uint32_t>& first = spare_first_;
+  first.assign(n + 1, 0);
   for (std::size_t i = 0; i < listed; ++i)
     for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q)
       ++first[std::min(new_index[i], new_index[partner_[q]]) + 1];
   for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
-  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-  std::vector<std::uint32_t> partner(pairs);
-  std::vector<std::uint8_t> codes(pairs);
-  std::vector<ContactHistory> history(pairs);
-  std::vector<std::uint8_t> touching(pairs);
+  std::vector<std::uint32_t>& fill = fill_;
+  fill.assign(first.begin(), first.end() - 1);
+  std::vector<std::uint32_t>& partner = spare_partner_;
+  std::vector<std::uint8_t>& codes = spare_shift_code_;
+  std::vector<ContactHistory>& history = spare_history_;
+  std::vector<std::uint8_t>& touching = spare_touching_;
+  partner.resize(pairs);
+  codes.resize(pairs);
+  history.resize(pairs);
+  touching.resize(pairs);
   for (std::size_t i = 0; i < listed; ++i) {
     for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
       const std::uint32_t a = new_index[i], b = new_index[partner_[q]];
@@ -228,11 +256,11 @@ void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
       }
     }
   }
-  first_ = std::move(first);
-  partner_ = std::move(partner);
-  shift_code_ = std::move(codes);
-  history_ = std::move(history);
-  touching_ = std::move(touching);
+  first_.swap(first);
+  partner_.swap(partner);
+  shift_code_.swap(codes);
+  history_.swap(history);
+  touching_.swap(touching);
   if (position_at_build_.size() == listed && listed == n) {
     std::vector<Vec3> moved(n);
     for (std::size_t i = 0; i < n; ++i) moved[new_index[i]] = position_at_build_[i];

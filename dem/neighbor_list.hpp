@@ -85,14 +85,29 @@ class NeighborList {
   double skin_m_ = 0.0;
   std::size_t builds_ = 0;
 
-  // Scratch reused between builds.
+  // Scratch reused between builds. A build or renumber writes the new list
+  // into the spare arrays and then swaps them with the current ones, so the
+  // list's memory is allocated once, not at every build: arrays of hundreds of
+  // kilobytes were mapped, zeroed by page faults and unmapped again every few
+  // dozen steps (issue 13).
+  std::vector<std::uint32_t> spare_first_;
+  std::vector<std::uint32_t> spare_partner_;
+  std::vector<std::uint8_t> spare_shift_code_;
+  std::vector<ContactHistory> spare_history_;
+  std::vector<std::uint8_t> spare_touching_;
   std::vector<std::uint32_t> cell_start_;
   std::vector<std::uint32_t> cell_particles_;
   std::vector<std::uint32_t> cell_of_;
+  std::vector<std::array<int, 3>> cell_coord_;
   std::vector<std::uint32_t> count_;
-  struct Found {  // one member's pairs during a build
+  std::vector<std::uint32_t> fill_;
+  // One member's pairs during a build: the first `count` entries. The arrays
+  // are written past `count` (a candidate is written, then kept or not), so
+  // they are sized ahead of the writes, not grown by push_back.
+  struct Found {
     std::vector<std::uint32_t> partner;
     std::vector<std::uint8_t> code;
+    std::size_t count = 0;
   };
   std::vector<Found> found_;
 };

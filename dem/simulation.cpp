@@ -172,6 +172,7 @@ void Simulation::prepare() {
                                        options_.worker_parking_options);
   chunk_scratch_.assign(static_cast<std::size_t>(options_.threads), ChunkScratch{});
   contact_batches_.resize(static_cast<std::size_t>(options_.threads));
+  wall_contact_batches_.resize(static_cast<std::size_t>(options_.threads));
   thread_force_.resize(options_.threads);
   thread_torque_.resize(options_.threads);
   thread_wall_loads_.resize(options_.threads);
@@ -624,6 +625,10 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       flush();
     }
 
+    // Wall contacts: found one candidate at a time (the nearest point is a
+    // virtual call), evaluated a batch at a time (dem/wall_contact_batch.hpp),
+    // added in the order they were found.
+    WallContactBatch& wall_batch = wall_contact_batches_[static_cast<std::size_t>(m)];
     for (std::size_t wi = 0; wi < nwalls; ++wi) {
       const Wall& wall = *walls_[wi];
       WallCandidates& cand = wall_candidates_[wi];
@@ -633,6 +638,40 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       // Summed here and stored once: the chunks' load buffers are small
       // vectors that may share a cache line.
       WallLoad load;
+      auto flush_wall = [&] {
+        WallContactBatch& b = wall_batch;
+        for (int l = 0; l < b.size; ++l) {
+          const std::uint32_t i = b.i[l];
+          b.r_i[l] = rp[i];
+          b.m_i[l] = mp[i];
+          b.im_i[l] = imp[i];
+          b.ii_i[l] = iip[i];
+          const Vec3 dv = vp[i] - wall_velocity;
+          b.dv_x[l] = dv.x;
+          b.dv_y[l] = dv.y;
+          b.dv_z[l] = dv.z;
+          b.w_x[l] = wp[i].x;
+          b.w_y[l] = wp[i].y;
+          b.w_z[l] = wp[i].z;
+          b.coefficient[l] = matp[i] * nm + mw;
+          b.set_history(l, cand.history[b.candidate[l]]);
+        }
+        evaluate_walls(kernel, b, coef, dt);
+        for (int l = 0; l < b.size; ++l) {
+          const std::uint32_t i = b.i[l];
+          cand.history[b.candidate[l]] = b.history(l);
+          const Vec3 fi = b.force_on_i(l);
+          Fp[i] += fi;
+          Tp[i] += b.torque_on_i(l);
+          load.force_n -= fi;
+          load.torque_nm += cross(b.point(l) - ref, -fi) - b.law_torque_on_i(l);
+          elastic += b.energy_j[l];
+        }
+        load.contacts += static_cast<std::size_t>(b.size);
+        contacts += static_cast<std::size_t>(b.size);
+        b.size = 0;
+      };
+      wall_batch.size = 0;
       // The candidates of this chunk's particles (candidates are ascending).
       const auto c_begin = static_cast<std::size_t>(
           std::lower_bound(cand.particle.begin(), cand.particle.end(), own_begin) -
@@ -661,32 +700,11 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
           }
           continue;
         }
-        ContactKinematics k;
-        k.normal = cp.normal;
-        k.overlap_m = rad[i] - cp.distance_m;
-        k.radius_eff_m = rad[i];
-        k.mass_eff_kg = mass[i];
-        k.lever_i_m = std::max(cp.distance_m, 0.0);
-        k.inv_mass_i_kg = im[i];
-        k.inv_inertia_i_kg_m2 = ii[i];
-        k.omega_i_rad_s = om[i];
-        k.partner_is_wall = true;
-        const Vec3 vc = v[i] - wall_velocity - k.lever_i_m * cross(om[i], k.normal);
-        k.normal_speed_m_s = dot(vc, k.normal);
-        k.tangential_velocity_m_s = vc - k.normal_speed_m_s * k.normal;
-        k.dt_s = dt;
         cand.touching[c] = 1;
-        ContactForce cf;
-        kernel(k, coefficients_[mat[i] * nm + mw], cand.history[c], cf);
-        const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
-        F[i] += fi;
-        T[i] += cf.torque_i_nm - k.lever_i_m * cross(k.normal, cf.tangential_force_n);
-        load.force_n -= fi;
-        load.torque_nm += cross(cp.point_m - ref, -fi) - cf.torque_i_nm;
-        ++load.contacts;
-        elastic += cf.elastic_energy_j;
-        ++contacts;
+        wall_batch.stage(static_cast<std::uint32_t>(c), i, cp.normal, cp.distance_m, cp.point_m);
+        if (wall_batch.full()) flush_wall();
       }
+      flush_wall();
       my_loads[wi] = load;
     }
     ChunkScratch& scratch = chunk_scratch_[m];

@@ -17,6 +17,7 @@
 #include "dem/random.hpp"
 #include "dem/thread_team.hpp"
 #include "dem/wall/wall.hpp"
+#include "dem/wall_contact_batch.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -195,6 +196,7 @@ class Simulation {
   };
   std::vector<ChunkScratch> chunk_scratch_;
   std::vector<ContactBatch> contact_batches_;  // one per chunk
+  std::vector<WallContactBatch> wall_contact_batches_;  // one per chunk
   // Chunk m owns particles [owner_begin_[m], owner_begin_[m+1]) in the force
   // loop (split so that each owns about as many listed pairs) and writes
   // forces on particles up to window_end_[m] (its partners). Set at each build.

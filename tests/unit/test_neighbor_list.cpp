@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <utility>
 
@@ -85,6 +87,62 @@ TEST(NeighborList, CarriesTheHistoryOfTouchingPairsAcrossRebuilds) {
   EXPECT_EQ(list.touching(0), 1);
   EXPECT_DOUBLE_EQ(list.history(0).tangential_displacement_m.y, 1e-6);
   EXPECT_EQ(list.touching(1), 0);
+}
+
+// A build and a renumber write into arrays kept from the list before last
+// (issue 13: no allocation per build). Nothing of that older list may show:
+// a pair that parted is not touching after later builds, and a list built
+// again and again equals a list built once from the same positions.
+TEST(NeighborList, RepeatedBuildsCarryNothingStale) {
+  Domain dom;
+  dom.upper_m = {0.02, 0.02, 0.02};
+  dom.periodic = {true, false, false};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> pos(400);
+  std::vector<double> rad(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    pos[i] = {0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng)};
+    rad[i] = 0.4e-3 + 0.3e-3 * u(rng);
+  }
+  NeighborList list;
+  list.build(pos, rad, dom, 0.3e-3);
+  for (std::size_t p = 0; p < list.pair_count(); ++p) {
+    list.touching(p) = p % 2 == 0 ? 1 : 0;
+    list.history(p).tangential_displacement_m = {1.0 + static_cast<double>(p), 0.0, 0.0};
+  }
+  std::vector<std::uint32_t> reversed(pos.size());
+  for (std::size_t k = 0; k < 6; ++k) {
+    for (auto& x : pos) x.z = std::min(0.0199, x.z + 0.05e-3 * u(rng));
+    if (k == 2) {
+      // Rename the particles (reversed order), as a spatial reorder does.
+      for (std::size_t i = 0; i < pos.size(); ++i)
+        reversed[i] = static_cast<std::uint32_t>(pos.size() - 1 - i);
+      list.renumber(reversed);
+      std::reverse(pos.begin(), pos.end());
+      std::reverse(rad.begin(), rad.end());
+    }
+    list.build(pos, rad, dom, 0.3e-3);
+    // Every pair parts now, except a few: their flags must not come back.
+    for (std::size_t p = 0; p < list.pair_count(); ++p) list.touching(p) = p % 7 == 0 ? 1 : 0;
+  }
+  list.build(pos, rad, dom, 0.3e-3);
+  NeighborList fresh;
+  fresh.build(pos, rad, dom, 0.3e-3);
+  ASSERT_EQ(list.pair_count(), fresh.pair_count());
+  std::size_t touching = 0;
+  for (std::size_t i = 0; i <= pos.size(); ++i) ASSERT_EQ(list.first(i), fresh.first(i)) << i;
+  for (std::size_t p = 0; p < list.pair_count(); ++p) {
+    ASSERT_EQ(list.partner(p), fresh.partner(p)) << p;
+    ASSERT_EQ(list.image_shift(p).x, fresh.image_shift(p).x) << p;
+    touching += list.touching(p);
+  }
+  // The last build saw the positions of the one before: the same pairs, and
+  // exactly those flagged after it still touch.
+  std::size_t flagged_last = 0;
+  for (std::size_t p = 0; p < list.pair_count(); ++p) flagged_last += p % 7 == 0 ? 1 : 0;
+  EXPECT_EQ(touching, flagged_last);
+  EXPECT_GT(touching, 0u);
 }
 
 }  // namespace
