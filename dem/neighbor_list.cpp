@@ -174,14 +174,12 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
   // The new list goes into the spare arrays (their memory is reused). Only
   // the histories of touching pairs are carried; the rest are left as they
   // are, meaningless while their pair is not touching (see history()).
+  resize_spares(pairs);
   std::vector<std::uint32_t>& partner = spare_partner_;
   std::vector<std::uint8_t>& codes = spare_shift_code_;
   std::vector<ContactHistory>& history = spare_history_;
   std::vector<std::uint8_t>& touching = spare_touching_;
-  partner.resize(pairs);
-  codes.resize(pairs);
-  history.resize(pairs);
-  touching.assign(pairs, 0);
+  std::fill(touching.begin(), touching.end(), std::uint8_t{0});
   const std::size_t old_n = first_.empty() ? 0 : first_.size() - 1;
 
   for_each_member([&](int m, std::size_t begin, std::size_t end) {
@@ -206,12 +204,23 @@ void NeighborList::build(const std::vector<Vec3>& pos, const std::vector<double>
     }
   });
 
-  first_.swap(first);
-  partner_.swap(partner);
-  shift_code_.swap(codes);
-  history_.swap(history);
-  touching_.swap(touching);
+  swap_in_spares();
   position_at_build_ = pos;
+}
+
+void NeighborList::resize_spares(std::size_t pairs) {
+  spare_partner_.resize(pairs);
+  spare_shift_code_.resize(pairs);
+  spare_history_.resize(pairs);
+  spare_touching_.resize(pairs);
+}
+
+void NeighborList::swap_in_spares() {
+  first_.swap(spare_first_);
+  partner_.swap(spare_partner_);
+  shift_code_.swap(spare_shift_code_);
+  history_.swap(spare_history_);
+  touching_.swap(spare_touching_);
 }
 
 void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
@@ -231,14 +240,11 @@ void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
   for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
   std::vector<std::uint32_t>& fill = fill_;
   fill.assign(first.begin(), first.end() - 1);
+  resize_spares(pairs);
   std::vector<std::uint32_t>& partner = spare_partner_;
   std::vector<std::uint8_t>& codes = spare_shift_code_;
   std::vector<ContactHistory>& history = spare_history_;
   std::vector<std::uint8_t>& touching = spare_touching_;
-  partner.resize(pairs);
-  codes.resize(pairs);
-  history.resize(pairs);
-  touching.resize(pairs);
   for (std::size_t i = 0; i < listed; ++i) {
     for (std::uint32_t q = first_[i]; q < first_[i + 1]; ++q) {
       const std::uint32_t a = new_index[i], b = new_index[partner_[q]];
@@ -256,11 +262,7 @@ void NeighborList::renumber(const std::vector<std::uint32_t>& new_index) {
       }
     }
   }
-  first_.swap(first);
-  partner_.swap(partner);
-  shift_code_.swap(codes);
-  history_.swap(history);
-  touching_.swap(touching);
+  swap_in_spares();
   if (position_at_build_.size() == listed && listed == n) {
     std::vector<Vec3> moved(n);
     for (std::size_t i = 0; i < n; ++i) moved[new_index[i]] = position_at_build_[i];

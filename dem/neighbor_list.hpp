@@ -90,6 +90,8 @@ class NeighborList {
   // list's memory is allocated once, not at every build: arrays of hundreds of
   // kilobytes were mapped, zeroed by page faults and unmapped again every few
   // dozen steps (issue 13).
+  void resize_spares(std::size_t pairs);  // the spare arrays, to a list of this many pairs
+  void swap_in_spares();                  // the spare arrays become the list
   std::vector<std::uint32_t> spare_first_;
   std::vector<std::uint32_t> spare_partner_;
   std::vector<std::uint8_t> spare_shift_code_;

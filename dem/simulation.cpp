@@ -640,22 +640,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
       WallLoad load;
       auto flush_wall = [&] {
         WallContactBatch& b = wall_batch;
-        for (int l = 0; l < b.size; ++l) {
-          const std::uint32_t i = b.i[l];
-          b.r_i[l] = rp[i];
-          b.m_i[l] = mp[i];
-          b.im_i[l] = imp[i];
-          b.ii_i[l] = iip[i];
-          const Vec3 dv = vp[i] - wall_velocity;
-          b.dv_x[l] = dv.x;
-          b.dv_y[l] = dv.y;
-          b.dv_z[l] = dv.z;
-          b.w_x[l] = wp[i].x;
-          b.w_y[l] = wp[i].y;
-          b.w_z[l] = wp[i].z;
-          b.coefficient[l] = matp[i] * nm + mw;
-          b.set_history(l, cand.history[b.candidate[l]]);
-        }
+        b.gather(pa, wall_velocity, nm, mw, cand.history.data());
         evaluate_walls(kernel, b, coef, dt);
         for (int l = 0; l < b.size; ++l) {
           const std::uint32_t i = b.i[l];

@@ -13,6 +13,7 @@
 
 #include "dem/contact/contact_state.hpp"
 #include "dem/contact/pair_coefficients.hpp"
+#include "dem/contact_batch.hpp"
 #include "dem/vec3.hpp"
 #include "dem/vector_clones.hpp"
 
@@ -63,6 +64,30 @@ struct alignas(64) WallContactBatch {
     p_z[l] = point.z;
   }
 
+  // Copies, for every staged contact, what the law needs of its particle,
+  // the particle's velocity relative to the wall, and the contact's history
+  // (indexed by candidate). Run before evaluate_walls().
+  void gather(const ParticleArrays& pa, const Vec3& wall_velocity, int materials, int wall_material,
+              const ContactHistory* history) {
+    for (int l = 0; l < size; ++l) {
+      const std::uint32_t p = i[l];
+      r_i[l] = pa.radius_m[p];
+      m_i[l] = pa.mass_kg[p];
+      im_i[l] = pa.inv_mass_kg[p];
+      ii_i[l] = pa.inv_inertia_kg_m2[p];
+      const Vec3 dv = pa.velocity_m_s[p] - wall_velocity;
+      dv_x[l] = dv.x;
+      dv_y[l] = dv.y;
+      dv_z[l] = dv.z;
+      const Vec3 w = pa.omega_rad_s[p];
+      w_x[l] = w.x;
+      w_y[l] = w.y;
+      w_z[l] = w.z;
+      coefficient[l] = pa.material[p] * materials + wall_material;
+      set_history(l, history[candidate[l]]);
+    }
+  }
+
   ContactHistory history(int l) const {
     ContactHistory h;
     h.tangential_displacement_m = {xi_x[l], xi_y[l], xi_z[l]};
@@ -107,17 +132,10 @@ DEMCAL_VECTOR_CLONES void evaluate_walls(const Kernel& kernel, WallContactBatch&
     k.normal_speed_m_s = dot(vc, k.normal);
     k.tangential_velocity_m_s = vc - k.normal_speed_m_s * k.normal;
     k.dt_s = dt_s;
-    ContactHistory h;
-    h.tangential_displacement_m = {b.xi_x[l], b.xi_y[l], b.xi_z[l]};
-    h.rolling_torque_nm = {b.mr_x[l], b.mr_y[l], b.mr_z[l]};
+    ContactHistory h = b.history(l);
     ContactForce cf;
     kernel(k, coefficients[b.coefficient[l]], h, cf);
-    b.xi_x[l] = h.tangential_displacement_m.x;
-    b.xi_y[l] = h.tangential_displacement_m.y;
-    b.xi_z[l] = h.tangential_displacement_m.z;
-    b.mr_x[l] = h.rolling_torque_nm.x;
-    b.mr_y[l] = h.rolling_torque_nm.y;
-    b.mr_z[l] = h.rolling_torque_nm.z;
+    b.set_history(l, h);
     const Vec3 fi = cf.normal_force_n * k.normal + cf.tangential_force_n;
     const Vec3 ti = cf.torque_i_nm - k.lever_i_m * cross(k.normal, cf.tangential_force_n);
     b.f_x[l] = fi.x;

@@ -9,6 +9,7 @@
 #include "dem/contact/pair_coefficients.hpp"
 #include "dem/contact_batch.hpp"
 #include "dem/material.hpp"
+#include "tests/support/every_contact_law.hpp"
 
 #include <gtest/gtest.h>
 
@@ -72,22 +73,9 @@ Outcome one_at_a_time(const Kernel& kernel, const ParticleArrays& pa, std::uint3
 
 TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
   // Two materials, so that the coefficient table is looked up per pair.
-  const std::vector<Material> materials = {{"sand", 2650.0, 5e7, 0.0, 0.25},
-                                           {"glass", 2500.0, 6e7, 0.0, 0.22}};
-  const int nm = static_cast<int>(materials.size());
-  InteractionParameters p;
-  p.restitution = 0.6;
-  p.sliding_friction = 0.5;
-  p.rolling_friction = 0.3;
-  p.surface_energy_j_m2 = 0.05;
-  std::vector<PairCoefficients> table;
-  for (const Material& a : materials)
-    for (const Material& b : materials)
-      table.push_back(resolve_pair(a, b, p, RestitutionModel::kExact));
-  // A pair with no rolling friction (the parts' former early return).
-  InteractionParameters q = p;
-  q.rolling_friction = 0.0;
-  table[1] = resolve_pair(materials[0], materials[1], q, RestitutionModel::kExact);
+  const testing::CoefficientTable coefficients = testing::two_material_coefficients();
+  const int nm = coefficients.materials;
+  const std::vector<PairCoefficients>& table = coefficients.table;
 
   // Particles and contacts: overlaps up to 2 % of a radius, spins and
   // histories large enough for sliding and rolling at the limit, and a few
@@ -170,61 +158,49 @@ TEST(ContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
   const ListedPairs list{partner.data(), code.data(), shift_table.data(), listed.data()};
   const double dt = 2e-6;
 
-  int laws = 0;
-  for (const char* adhesion : {"none", "jkr"})
-    for (const std::string& tangential : known_part_names("tangential"))
-      for (const std::string& rolling : known_part_names("rolling"))
-        for (const bool own : {false, true}) {
-          if (own && rolling != "cdt") continue;
-          ContactLawSpec spec;
-          spec.adhesion = adhesion;
-          spec.tangential = tangential;
-          spec.rolling = rolling;
-          spec.cdt_own_angular_velocity = own;
-          const ContactLaw law = make_contact_law(spec);
-          const std::string name = law.describe() + (own ? " (own angular velocity)" : "");
-          ++laws;
-          with_contact_kernel(law, [&](const auto& kernel) {
-            ContactBatch batch;
-            std::size_t next = 0;
-            int mismatches = 0;
-            auto check = [&] {
-              batch.gather(pa, list, nm);
-              evaluate(kernel, batch, table.data(), dt);
-              for (int l = 0; l < batch.size; ++l) {
-                const Pair& pr = pairs[next++];
-                const Outcome o = one_at_a_time(
-                    kernel, pa, pr.i, pr.j, pr.d,
-                    table[static_cast<std::size_t>(mat[pr.i] * nm + mat[pr.j])], pr.h, dt);
-                const ContactHistory h = batch.history(l);
-                const bool same =
-                    same_bits(batch.force_on_i(l), o.force_i) &&
-                    same_bits(batch.torque_on_i(l), o.torque_i) &&
-                    same_bits(batch.torque_on_j(l), o.torque_j) &&
-                    same_bits(batch.energy_j[l], o.energy_j) &&
-                    same_bits(h.tangential_displacement_m, o.history.tangential_displacement_m) &&
-                    same_bits(h.rolling_torque_nm, o.history.rolling_torque_nm);
-                if (!same && mismatches++ == 0)
-                  ADD_FAILURE() << name << ": contact " << next - 1
-                                << " differs from the law applied alone (force "
-                                << batch.force_on_i(l).x << " against " << o.force_i.x << ")";
-              }
-              batch.size = 0;
-            };
-            for (std::size_t q = 0; q < pairs.size(); ++q) {
-              const Pair& pr = pairs[q];
-              // Staged as the pair loop does, with a parted pair between
-              // every two contacts: it is written but not taken.
-              batch.stage(batch.size, pr.i, static_cast<std::uint32_t>(q), touched[q] != 0);
-              batch.size += 1;
-              if (batch.full()) check();
-              batch.stage(batch.size, pr.j, 0, true);
+  const int laws =
+      testing::for_every_contact_law([&](const ContactLaw& law, const std::string& name) {
+        with_contact_kernel(law, [&](const auto& kernel) {
+          ContactBatch batch;
+          std::size_t next = 0;
+          int mismatches = 0;
+          auto check = [&] {
+            batch.gather(pa, list, nm);
+            evaluate(kernel, batch, table.data(), dt);
+            for (int l = 0; l < batch.size; ++l) {
+              const Pair& pr = pairs[next++];
+              const Outcome o = one_at_a_time(
+                  kernel, pa, pr.i, pr.j, pr.d,
+                  table[static_cast<std::size_t>(mat[pr.i] * nm + mat[pr.j])], pr.h, dt);
+              const ContactHistory h = batch.history(l);
+              const bool same =
+                  same_bits(batch.force_on_i(l), o.force_i) &&
+                  same_bits(batch.torque_on_i(l), o.torque_i) &&
+                  same_bits(batch.torque_on_j(l), o.torque_j) &&
+                  same_bits(batch.energy_j[l], o.energy_j) &&
+                  same_bits(h.tangential_displacement_m, o.history.tangential_displacement_m) &&
+                  same_bits(h.rolling_torque_nm, o.history.rolling_torque_nm);
+              if (!same && mismatches++ == 0)
+                ADD_FAILURE() << name << ": contact " << next - 1
+                              << " differs from the law applied alone (force "
+                              << batch.force_on_i(l).x << " against " << o.force_i.x << ")";
             }
-            check();  // a part-filled last batch
-            EXPECT_EQ(next, pairs.size());
-            EXPECT_EQ(mismatches, 0) << name;
-          });
-        }
+            batch.size = 0;
+          };
+          for (std::size_t q = 0; q < pairs.size(); ++q) {
+            const Pair& pr = pairs[q];
+            // Staged as the pair loop does, with a parted pair between
+            // every two contacts: it is written but not taken.
+            batch.stage(batch.size, pr.i, static_cast<std::uint32_t>(q), touched[q] != 0);
+            batch.size += 1;
+            if (batch.full()) check();
+            batch.stage(batch.size, pr.j, 0, true);
+          }
+          check();  // a part-filled last batch
+          EXPECT_EQ(next, pairs.size());
+          EXPECT_EQ(mismatches, 0) << name;
+        });
+      });
   EXPECT_GE(laws, 16);
 }
 

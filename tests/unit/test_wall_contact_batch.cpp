@@ -7,6 +7,7 @@
 #include "dem/contact/pair_coefficients.hpp"
 #include "dem/material.hpp"
 #include "dem/wall_contact_batch.hpp"
+#include "tests/support/every_contact_law.hpp"
 
 #include <gtest/gtest.h>
 
@@ -70,20 +71,8 @@ Outcome one_at_a_time(const Kernel& kernel, const WallContact& c, const PairCoef
 }
 
 TEST(WallContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
-  const std::vector<Material> materials = {{"sand", 2650.0, 5e7, 0.0, 0.25},
-                                           {"glass", 2500.0, 6e7, 0.0, 0.22}};
-  InteractionParameters p;
-  p.restitution = 0.6;
-  p.sliding_friction = 0.5;
-  p.rolling_friction = 0.3;
-  p.surface_energy_j_m2 = 0.05;
-  std::vector<PairCoefficients> table;
-  for (const Material& a : materials)
-    for (const Material& b : materials)
-      table.push_back(resolve_pair(a, b, p, RestitutionModel::kExact));
-  InteractionParameters q = p;
-  q.rolling_friction = 0.0;  // a wall without rolling friction
-  table[1] = resolve_pair(materials[0], materials[1], q, RestitutionModel::kExact);
+  // Two materials; the pair (0, 1) is a wall without rolling friction.
+  const std::vector<PairCoefficients> table = testing::two_material_coefficients().table;
 
   // Overlaps up to 3 % of a radius, a few centres past the wall (distance
   // below zero: no lever arm), spins and histories large enough to slide and
@@ -102,84 +91,82 @@ TEST(WallContactBatch, EvaluatesEveryContactAsTheLawDoesOneAtATime) {
     c.ii = 1.0 / (0.4 * c.m * c.r * c.r);
     c.v = a % 11 == 0 ? Vec3{} : Vec3{0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng)};
     c.w = a % 7 == 0 ? Vec3{} : Vec3{80.0 * u(rng), 80.0 * u(rng), 80.0 * u(rng)};
-    c.wall_velocity = a % 3 == 0 ? Vec3{0.0, 0.0, -0.05} : Vec3{};
-    c.coefficient = static_cast<int>(a % 4);
+    // One wall per batch of 64 staged contacts: moving or still, of wall
+    // material 0 or 1, so that every coefficient of the table is used.
+    const std::size_t wall = a / WallContactBatch::kCapacity;
+    c.wall_velocity = wall % 2 == 0 ? Vec3{0.0, 0.0, -0.05} : Vec3{};
+    c.coefficient = static_cast<int>(2 * (a % 2) + wall / 2 % 2);
     if (a % 5 != 0) {
       c.h.tangential_displacement_m = {1e-5 * u(rng), 1e-5 * u(rng), 1e-5 * u(rng)};
       c.h.rolling_torque_nm = {1e-6 * u(rng), 1e-6 * u(rng), 1e-6 * u(rng)};
     }
   }
   const double dt = 2e-6;
+  // The particles as the engine holds them, in another order than the
+  // candidates (particle n - 1 - a is candidate a), and the candidates'
+  // histories.
+  const std::size_t n = contacts.size();
+  std::vector<Vec3> x(n), v(n), w(n);
+  std::vector<double> r(n), m(n), im(n), ii(n);
+  std::vector<int> mat(n);
+  std::vector<ContactHistory> history(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    const WallContact& c = contacts[a];
+    const std::size_t p = n - 1 - a;
+    v[p] = c.v;
+    w[p] = c.w;
+    r[p] = c.r;
+    m[p] = c.m;
+    im[p] = c.im;
+    ii[p] = c.ii;
+    mat[p] = static_cast<int>(a % 2);
+    history[a] = c.h;
+  }
+  const ParticleArrays pa{x.data(), v.data(),  w.data(),  r.data(),
+                          m.data(), im.data(), ii.data(), mat.data()};
 
-  int laws = 0;
-  for (const char* adhesion : {"none", "jkr"})
-    for (const std::string& tangential : known_part_names("tangential"))
-      for (const std::string& rolling : known_part_names("rolling"))
-        for (const bool own : {false, true}) {
-          if (own && rolling != "cdt") continue;
-          ContactLawSpec spec;
-          spec.adhesion = adhesion;
-          spec.tangential = tangential;
-          spec.rolling = rolling;
-          spec.cdt_own_angular_velocity = own;
-          const ContactLaw law = make_contact_law(spec);
-          const std::string name = law.describe() + (own ? " (own angular velocity)" : "");
-          ++laws;
-          with_contact_kernel(law, [&](const auto& kernel) {
-            WallContactBatch batch;
-            std::size_t next = 0;
-            int mismatches = 0;
-            auto check = [&] {
-              // What the engine's flush copies in.
-              for (int l = 0; l < batch.size; ++l) {
-                const WallContact& c = contacts[batch.candidate[l]];
-                batch.r_i[l] = c.r;
-                batch.m_i[l] = c.m;
-                batch.im_i[l] = c.im;
-                batch.ii_i[l] = c.ii;
-                const Vec3 dv = c.v - c.wall_velocity;
-                batch.dv_x[l] = dv.x;
-                batch.dv_y[l] = dv.y;
-                batch.dv_z[l] = dv.z;
-                batch.w_x[l] = c.w.x;
-                batch.w_y[l] = c.w.y;
-                batch.w_z[l] = c.w.z;
-                batch.coefficient[l] = c.coefficient;
-                batch.set_history(l, c.h);
-              }
-              evaluate_walls(kernel, batch, table.data(), dt);
-              for (int l = 0; l < batch.size; ++l) {
-                ASSERT_EQ(batch.candidate[l], next);
-                const WallContact& c = contacts[next++];
-                const Outcome o =
-                    one_at_a_time(kernel, c, table[static_cast<std::size_t>(c.coefficient)], dt);
-                const ContactHistory h = batch.history(l);
-                const bool same =
-                    same_bits(batch.force_on_i(l), o.force_i) &&
-                    same_bits(batch.torque_on_i(l), o.torque_i) &&
-                    same_bits(batch.law_torque_on_i(l), o.law_torque_i) &&
-                    same_bits(batch.energy_j[l], o.energy_j) &&
-                    same_bits(h.tangential_displacement_m, o.history.tangential_displacement_m) &&
-                    same_bits(h.rolling_torque_nm, o.history.rolling_torque_nm);
-                if (!same && mismatches++ == 0)
-                  ADD_FAILURE() << name << ": wall contact " << next - 1
-                                << " differs from the law applied alone (force "
-                                << batch.force_on_i(l).x << " against " << o.force_i.x << ")";
-              }
-              batch.size = 0;
-            };
-            for (std::size_t a = 0; a < contacts.size(); ++a) {
-              const WallContact& c = contacts[a];
-              batch.stage(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(a % 50),
-                          c.normal, c.distance_m, c.r * c.normal);
-              EXPECT_TRUE(same_bits(batch.point(batch.size - 1), c.r * c.normal));
-              if (batch.full()) check();
+  const int laws =
+      testing::for_every_contact_law([&](const ContactLaw& law, const std::string& name) {
+        with_contact_kernel(law, [&](const auto& kernel) {
+          WallContactBatch batch;
+          std::size_t next = 0;
+          int mismatches = 0;
+          auto check = [&] {
+            const WallContact& first = contacts[batch.candidate[0]];
+            batch.gather(pa, first.wall_velocity, 2, first.coefficient % 2, history.data());
+            evaluate_walls(kernel, batch, table.data(), dt);
+            for (int l = 0; l < batch.size; ++l) {
+              ASSERT_EQ(batch.candidate[l], next);
+              const WallContact& c = contacts[next++];
+              const Outcome o =
+                  one_at_a_time(kernel, c, table[static_cast<std::size_t>(c.coefficient)], dt);
+              const ContactHistory h = batch.history(l);
+              const bool same =
+                  same_bits(batch.force_on_i(l), o.force_i) &&
+                  same_bits(batch.torque_on_i(l), o.torque_i) &&
+                  same_bits(batch.law_torque_on_i(l), o.law_torque_i) &&
+                  same_bits(batch.energy_j[l], o.energy_j) &&
+                  same_bits(h.tangential_displacement_m, o.history.tangential_displacement_m) &&
+                  same_bits(h.rolling_torque_nm, o.history.rolling_torque_nm);
+              if (!same && mismatches++ == 0)
+                ADD_FAILURE() << name << ": wall contact " << next - 1
+                              << " differs from the law applied alone (force "
+                              << batch.force_on_i(l).x << " against " << o.force_i.x << ")";
             }
-            check();  // a part-filled last batch
-            EXPECT_EQ(next, contacts.size());
-            EXPECT_EQ(mismatches, 0) << name;
-          });
-        }
+            batch.size = 0;
+          };
+          for (std::size_t a = 0; a < contacts.size(); ++a) {
+            const WallContact& c = contacts[a];
+            batch.stage(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(n - 1 - a),
+                        c.normal, c.distance_m, c.r * c.normal);
+            EXPECT_TRUE(same_bits(batch.point(batch.size - 1), c.r * c.normal));
+            if (batch.full()) check();
+          }
+          if (batch.size > 0) check();  // a part-filled last batch
+          EXPECT_EQ(next, contacts.size());
+          EXPECT_EQ(mismatches, 0) << name;
+        });
+      });
   EXPECT_GE(laws, 16);
 }
 
