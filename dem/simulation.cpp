@@ -531,19 +531,26 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
 
   team_->run([&](int m) {
     // Chunk m owns the particles [own_begin, own_end): their pairs with
-    // higher-indexed partners and their wall contacts. With one chunk the
-    // forces go straight into the particle arrays.
+    // higher-indexed partners and their wall contacts. What it adds to its
+    // own particles goes straight into the particle arrays (no other chunk
+    // writes there); what it adds to partners beyond its range, which
+    // follow their owner in the list's order up to window_end_[m], goes into
+    // its buffer, summed in after every chunk is done (below). With one chunk
+    // every partner is its own.
     const std::size_t own_begin = owner_begin_[m], own_end = owner_begin_[m + 1];
-    std::vector<Vec3>& F = chunks == 1 ? particles_.force_n : thread_force_[m];
-    std::vector<Vec3>& T = chunks == 1 ? particles_.torque_nm : thread_torque_[m];
-    // Only the window of particles this chunk can write is cleared: its own
-    // and their partners (partners follow their owner in the list's order).
-    const std::size_t lo = chunks == 1 ? 0 : own_begin;
-    const std::size_t hi = chunks == 1 ? n : std::max(window_end_[m], own_end);
-    std::fill(F.begin() + static_cast<std::ptrdiff_t>(lo),
-              F.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
-    std::fill(T.begin() + static_cast<std::ptrdiff_t>(lo),
-              T.begin() + static_cast<std::ptrdiff_t>(hi), Vec3{});
+    const std::size_t beyond_end = std::max(window_end_[m], own_end);
+    Vec3* const force_own = particles_.force_n.data();
+    Vec3* const torque_own = particles_.torque_nm.data();
+    std::fill(force_own + own_begin, force_own + own_end, Vec3{});
+    std::fill(torque_own + own_begin, torque_own + own_end, Vec3{});
+    Vec3* force_beyond = force_own;
+    Vec3* torque_beyond = torque_own;
+    if (chunks > 1) {
+      force_beyond = thread_force_[m].data();
+      torque_beyond = thread_torque_[m].data();
+      std::fill(force_beyond + own_end, force_beyond + beyond_end, Vec3{});
+      std::fill(torque_beyond + own_end, torque_beyond + beyond_end, Vec3{});
+    }
     std::vector<WallLoad>& my_loads = thread_wall_loads_[m];
     double elastic = 0.0;
     std::size_t contacts = 0;
@@ -561,8 +568,6 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     const double* const iip = ii.data();
     const int* const matp = mat.data();
     const PairCoefficients* const coef = coefficients_.data();
-    Vec3* const Fp = F.data();
-    Vec3* const Tp = T.data();
     // Contacts are evaluated a batch at a time (dem/contact_batch.hpp) and
     // added to the particles in the order they were found.
     const ParticleArrays pa{xp, vp, wp, rp, mp, imp, iip, matp};
@@ -577,10 +582,13 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         const auto j = static_cast<std::size_t>(batch.j[l]);
         list.history[batch.pair[l]] = batch.history(l);
         const Vec3 fi = batch.force_on_i(l);
-        Fp[i] += fi;
-        Fp[j] -= fi;
-        Tp[i] += batch.torque_on_i(l);
-        Tp[j] += batch.torque_on_j(l);
+        const bool j_own = j < own_end;
+        Vec3* const Fj = j_own ? force_own : force_beyond;
+        Vec3* const Tj = j_own ? torque_own : torque_beyond;
+        force_own[i] += fi;
+        Fj[j] -= fi;
+        torque_own[i] += batch.torque_on_i(l);
+        Tj[j] += batch.torque_on_j(l);
         elastic += batch.energy_j[l];
       }
       contacts += static_cast<std::size_t>(batch.size);
@@ -646,8 +654,8 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
           const std::uint32_t i = b.i[l];
           cand.history[b.candidate[l]] = b.history(l);
           const Vec3 fi = b.force_on_i(l);
-          Fp[i] += fi;
-          Tp[i] += b.torque_on_i(l);
+          force_own[i] += fi;
+          torque_own[i] += b.torque_on_i(l);
           load.force_n -= fi;
           load.torque_nm += cross(b.point(l) - ref, -fi) - b.law_torque_on_i(l);
           elastic += b.energy_j[l];
@@ -698,21 +706,32 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
   });
 
   // Every chunk's contributions are in; each chunk now finishes a slice of the
-  // particles: the sum over the chunks' buffers in chunk order (so a run
-  // repeats bit for bit at a given thread count), the body forces, and what
-  // the caller does with the new forces (the second kick).
+  // particles: the earlier chunks' buffered contributions to a particle, in
+  // chunk order, then its owner's own (so a run repeats bit for bit at a
+  // given thread count, parked or not), the body forces, and what the caller
+  // does with the new forces (the second kick). Only the particles some
+  // earlier chunk reached are visited: a narrow band after each chunk's range.
   team_->run([&](int m) {
     const std::size_t begin = slice_begin(m), end = slice_begin(m + 1);
-    if (chunks > 1) {
-      for (std::size_t i = begin; i < end; ++i) {
-        Vec3 fs, ts;
-        for (int q = 0; q < chunks; ++q) {
-          if (i < owner_begin_[q] || i >= std::max(window_end_[q], owner_begin_[q + 1])) continue;
-          fs += thread_force_[q][i];
-          ts += thread_torque_[q][i];
+    for (int q = 0; q + 1 < chunks; ++q) {
+      // The band chunk q buffered, [own end, window end), within this slice;
+      // a particle there that an even earlier chunk reached too was summed
+      // with that chunk's band (the bands are visited in chunk order).
+      const std::size_t band_begin = std::max(begin, owner_begin_[q + 1]);
+      const std::size_t band_end = std::min(end, window_end_[q]);
+      for (std::size_t i = band_begin; i < band_end; ++i) {
+        bool earlier = false;
+        for (int e = 0; e < q; ++e)
+          earlier = earlier || (i >= owner_begin_[e + 1] && i < window_end_[e]);
+        if (earlier) continue;
+        Vec3 fs = thread_force_[q][i], ts = thread_torque_[q][i];
+        for (int r = q + 1; r + 1 < chunks && owner_begin_[r + 1] <= i; ++r) {
+          if (i >= window_end_[r]) continue;
+          fs += thread_force_[r][i];
+          ts += thread_torque_[r][i];
         }
-        particles_.force_n[i] = fs;
-        particles_.torque_nm[i] = ts;
+        particles_.force_n[i] = fs + particles_.force_n[i];
+        particles_.torque_nm[i] = ts + particles_.torque_nm[i];
       }
     }
     for (const auto& bf : body_forces_)
