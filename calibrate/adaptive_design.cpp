@@ -1,6 +1,7 @@
 #include "calibrate/adaptive_design.hpp"
 
 #include "calibrate/detail/number_text.hpp"
+#include "calibrate/region_components.hpp"
 #include "calibrate/weighted_variance_acquisition.hpp"
 #include "surrogate/latin_hypercube_design.hpp"
 
@@ -235,6 +236,56 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   for (std::size_t k = 0; k < points.size(); ++k)
     for (std::size_t j = 0; j < points[k].size(); ++j)
       design(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(j)) = points[k][j];
+  // A part of the 95 % region that holds no design point exists only through the
+  // surrogates' variance between runs (region_components.hpp): the calibration report asks
+  // the user to run there. With confirm_region_parts the design does it itself: one run at
+  // each such part's most probable node confirms the part (the run agrees with the
+  // recordings) or removes it, and the region is not stable while such a part is left.
+  std::vector<Eigen::VectorXd> confirming;
+  std::vector<std::string> confirming_where;
+  if (options_.confirm_region_parts && cal.region.available) {
+    const RegionComponents parts =
+        region_components(cal.region.axes, cal.region.inside, best.theta, design);
+    for (std::size_t k = 0; k < parts.parts.size(); ++k) {
+      const RegionComponent& part = parts.parts[k];
+      if (!part.between_design_points) continue;
+      ++rec.unconfirmed_parts;
+      std::size_t node = parts.label.size();
+      for (std::size_t g = 0; g < parts.label.size(); ++g)
+        if (parts.label[g] == static_cast<int>(k) &&
+            (node == parts.label.size() ||
+             cal.region.log_posterior[g] > cal.region.log_posterior[node]))
+          node = g;
+      if (node == parts.label.size()) continue;
+      // The region's layout: the first axis runs fastest.
+      Eigen::VectorXd theta(static_cast<Eigen::Index>(cal.region.axes.size()));
+      std::size_t rest = node;
+      for (std::size_t j = 0; j < cal.region.axes.size(); ++j) {
+        theta(static_cast<Eigen::Index>(j)) = cal.region.axes[j][rest % cal.region.axes[j].size()];
+        rest /= cal.region.axes[j].size();
+      }
+      std::string where;
+      for (std::size_t j = 0; j < problem_.parameters.size(); ++j)
+        where += (j ? ", " : "") + problem_.parameters[j].name + " " + fmt(part.lower[j], 3) + "-" +
+                 fmt(part.upper[j], 3);
+      confirming.push_back(theta);
+      confirming_where.push_back(where);
+    }
+  }
+  for (std::size_t c = 0; c < confirming.size() && static_cast<int>(st.next.size()) < count; ++c) {
+    const std::size_t slot = st.next.size();
+    st.next.push_back(
+        {next, slot,
+         std::vector<double>(confirming[c].data(), confirming[c].data() + confirming[c].size()), 0,
+         run_seed(options_.seed, next, slot),
+         "confirms or removes a part of the 95 % region that holds no design "
+         "point (" +
+             confirming_where[c] + "), at its most probable node",
+         kNaN});
+    design.conservativeResize(design.rows() + 1, Eigen::NoChange);
+    design.row(design.rows() - 1) = confirming[c].transpose();
+  }
+  const std::size_t fixed_runs = st.next.size();
   std::vector<double> noise;
   for (const auto& f : st.calibration.surrogates)
     noise.push_back(std::isfinite(f.scatter.sd) ? f.scatter.sd * f.scatter.sd : 0.0);
@@ -270,12 +321,20 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   // that is the expected relative drop d of the variance the region is computed with, and
   // the region's volume (p parameters) scales as variance^(p/2).
   double believed_drop = 0.0;
-  if (tempered || averaged || options_.space_filling_batch) {
-    // Chosen under other weights: valued under this batch's posterior, as the rule means.
-    Eigen::MatrixXd chosen(static_cast<Eigen::Index>(choices.size()),
+  // The batch's new points: the confirming runs (a replicate adds no new point) and the choices.
+  std::vector<Eigen::VectorXd> new_points;
+  for (std::size_t r = 0; r < fixed_runs; ++r)
+    if (st.next[r].replicate == 0)
+      new_points.push_back(Eigen::Map<const Eigen::VectorXd>(
+          st.next[r].theta.data(), static_cast<Eigen::Index>(st.next[r].theta.size())));
+  if (tempered || averaged || options_.space_filling_batch || !new_points.empty()) {
+    // Chosen under other weights, or partly by the confirming rule: valued as a whole under
+    // this batch's posterior, as the rule means.
+    for (const auto& c : choices) new_points.push_back(c.theta);
+    Eigen::MatrixXd chosen(static_cast<Eigen::Index>(new_points.size()),
                            static_cast<Eigen::Index>(problem_.parameters.size()));
-    for (std::size_t c = 0; c < choices.size(); ++c)
-      chosen.row(static_cast<Eigen::Index>(c)) = choices[c].theta.transpose();
+    for (std::size_t c = 0; c < new_points.size(); ++c)
+      chosen.row(static_cast<Eigen::Index>(c)) = new_points[c].transpose();
     believed_drop = batch_variance_drop(problem, weights, noise, chosen);
   } else {
     for (const auto& c : choices) believed_drop += c.value;
@@ -325,8 +384,8 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
     const bool scatter_measured =
         rec.scatter_degrees_of_freedom >= options_.scatter_degrees_of_freedom;
     rec.stable = rec.area_change <= options_.area_tolerance &&
-                 rec.point_move <= options_.point_tolerance && surrogate_done &&
-                 scatter_measured && rec.region_resolved;
+                 rec.point_move <= options_.point_tolerance && surrogate_done && scatter_measured &&
+                 rec.region_resolved && rec.unconfirmed_parts == 0;
   }
   // chi^2 at the truth is chi^2(targets) when the model can reproduce the recordings, and
   // the best chi^2 is no larger: a best chi^2 above the 1 - alpha quantile happens with

@@ -42,10 +42,15 @@ std::string AdaptiveDesignHistory::to_text(const std::vector<std::string>& names
       s += (j ? ", " : "") + fmt(b.best_point[j], 4);
     s += "), chi^2 " + fmt(b.best_chi_squared, 3) + ", area change " + fmt(b.area_change, 2) +
          ", posterior-mean move " + fmt(b.point_move, 2) + " of the extent, surrogate variance " +
-         fmt(b.surrogate_variance_ratio, 2) + " of the noise (another batch expected to shrink the area by " +
+         fmt(b.surrogate_variance_ratio, 2) +
+         " of the noise (another batch expected to shrink the area by " +
          fmt(b.expected_area_gain, 2) + "), scatter dof " +
-         std::to_string(b.scatter_degrees_of_freedom) + (b.stable ? ", stable" : "") +
-         (b.chi_squared_too_large ? ", chi^2 too large" : "") + "\n";
+         std::to_string(b.scatter_degrees_of_freedom) +
+         (b.unconfirmed_parts > 0 ? ", " + std::to_string(b.unconfirmed_parts) +
+                                        (b.unconfirmed_parts == 1 ? " part" : " parts") +
+                                        " of the region without a design point"
+                                  : "") +
+         (b.stable ? ", stable" : "") + (b.chi_squared_too_large ? ", chi^2 too large" : "") + "\n";
   }
   return s + "status " + to_string(status) + ": " + statement + "\n";
 }
@@ -81,6 +86,7 @@ nlohmann::json AdaptiveDesignHistory::to_json() const {
       jb["surrogate_variance_ratio"] = number_json(b.surrogate_variance_ratio);
       jb["expected_area_gain"] = number_json(b.expected_area_gain);
       jb["scatter_degrees_of_freedom"] = b.scatter_degrees_of_freedom;
+      jb["unconfirmed_parts"] = b.unconfirmed_parts;
       jb["stable"] = b.stable;
       jb["chi_squared_too_large"] = b.chi_squared_too_large;
     }

@@ -47,6 +47,10 @@ struct AdaptiveBatchRecord {
   double surrogate_variance_ratio = 0.0;
   double expected_area_gain = 0.0;
   int scatter_degrees_of_freedom = 0;  // pooled replicate scatter, the fewest over observables
+  // Parts of the 95 % region that hold no design point (region_components.hpp), counted with
+  // AdaptiveDesignOptions::confirm_region_parts (0 without): the next batch runs in each and
+  // the region is not stable while one is left.
+  int unconfirmed_parts = 0;
   bool stable = false;                 // all stopping tolerances held after this batch
   bool chi_squared_too_large = false;  // the out-of-range test failed after this batch
 };

@@ -57,6 +57,7 @@ calibrate::AdaptiveDesignOptions read_adaptive_design_keys(Table& d) {
   o.out_of_range_alpha =
       s.number_or("out_of_range_alpha", o.out_of_range_alpha, between(0.0, true, 0.5, true));
   o.out_of_range_batches = integer(s, "out_of_range_batches", o.out_of_range_batches, 1, 100);
+  o.confirm_region_parts = s.boolean_or("confirm_region_parts", o.confirm_region_parts);
   s.finish();
 
   std::string error;

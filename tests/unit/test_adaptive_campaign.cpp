@@ -140,6 +140,8 @@ TEST(AdaptiveCampaign, AcquisitionVariantsAreKeys) {
   EXPECT_EQ(plain.acquisition_weight_batches, defaults.acquisition_weight_batches);
   EXPECT_EQ(plain.acquisition_tempering, defaults.acquisition_tempering);
   EXPECT_EQ(plain.space_filling_batch, defaults.space_filling_batch);
+  EXPECT_EQ(plain.confirm_region_parts, defaults.confirm_region_parts);
+  EXPECT_TRUE(design_of("[design.stopping]\nconfirm_region_parts = true\n").confirm_region_parts);
   const auto set = design_of(
       "[design.acquisition]\nweight_batches = 2\ntempering = 0.5\nspace_filling = true\n");
   EXPECT_EQ(set.acquisition_weight_batches, 2);

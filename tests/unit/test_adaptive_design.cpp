@@ -209,6 +209,42 @@ TEST(AdaptiveDesign, NearBoundTruthWithSaturatedAngleDoesNotPileIntoACorner) {
   check_against_grid(0.15, 0.75, "near-bound truth (0.15, 0.75)");
 }
 
+// AdaptiveDesignOptions::confirm_region_parts: a part of the 95 % region that holds no design
+// point gets a run of the next batch (its reason says so) and keeps the design from being
+// stable; a design that converges has no such part left. Over the near-bound truth's 5 seeds
+// the rule must act at least once (seeds 3 and 5 had such a part when it was written), or
+// this test tests nothing. Off (the default), no part is counted.
+TEST(AdaptiveDesign, ARegionPartNoRunHasSeenGetsARunBeforeTheDesignStops) {
+  int acted = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    AdaptiveDesignProblem problem{bounds(), recordings_at(0.15, 0.75, seed)};
+    AdaptiveDesignOptions options = test_options(seed);
+    const auto plain = run_adaptive_design(problem, options, evaluate);
+    for (const auto& b : plain.history.batches) EXPECT_EQ(b.unconfirmed_parts, 0);
+    options.confirm_region_parts = true;
+    const auto result = run_adaptive_design(problem, options, evaluate);
+    const auto& batches = result.history.batches;
+    for (std::size_t k = 0; k < batches.size(); ++k) {
+      if (!batches[k].complete || batches[k].unconfirmed_parts == 0) continue;
+      ++acted;
+      EXPECT_FALSE(batches[k].stable) << "seed " << seed << " batch " << k;
+      if (k + 1 == batches.size()) continue;  // the budget ended it
+      int confirming = 0;
+      for (const auto& r : batches[k + 1].runs)
+        confirming += r.reason.find("confirms or removes a part") != std::string::npos ? 1 : 0;
+      EXPECT_EQ(confirming, std::min(batches[k].unconfirmed_parts, options.batch_size))
+          << "seed " << seed << " batch " << k + 1;
+    }
+    if (result.history.status == AdaptiveDesignStatus::converged) {
+      EXPECT_EQ(batches.back().unconfirmed_parts, 0) << "seed " << seed;
+    }
+    std::cout << "near-bound, confirm_region_parts, seed " << seed << ": "
+              << to_string(result.history.status) << " after " << result.runs.size()
+              << " runs (without: " << plain.runs.size() << ")\n";
+  }
+  EXPECT_GE(acted, 1);
+}
+
 TEST(AdaptiveDesign, RecordingsOutOfTheModelsRangeEndWithThatStatus) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     // 12 degrees above the truth's angle: above anything the model reaches (46.6 deg).

@@ -3,11 +3,14 @@
 // of the readers, the registries or the resolved config that changes one orphans every run
 // of every existing store and makes the checked-in tables disagree with a rerun. Each study's
 // whole plan is pinned: the number of distinct runs, the first run's key and the SHA-256 of
-// all keys in plan order.
+// all keys in plan order. An adaptive study's plan is its start batch (the runs it asks for
+// before any has returned: a function of its [design] keys and seed alone).
 //
 // When a change is meant to change results (a new engine behaviour, a key_version bump),
 // rerun with DEMCAL_PRINT_RUN_KEYS=1 and replace the table below, saying why in the commit.
+#include "calibrate/adaptive_design.hpp"
 #include "config/canonical_json.hpp"
+#include "study/adaptive_campaign.hpp"
 #include "study/doe_plan.hpp"
 
 #include <gtest/gtest.h>
@@ -36,7 +39,12 @@ TEST(CheckedInRunKeys, EveryPlannedRunKeepsItsKey) {
   for (const PinnedPlan& p : kPinned) {
     SCOPED_TRACE(p.study);
     const std::filesystem::path file = std::filesystem::path(DEMCAL_SOURCE_DIR) / p.study;
-    const DoePlan plan = plan_doe(file, {}, {}, 1);
+    DoePlan plan = plan_doe(file, {}, {}, 1);
+    if (plan.design.adaptive) {
+      const AdaptiveStudyDesign d = adaptive_study_design(plan);
+      calibrate::AdaptiveDesign design(d.problem, d.options);
+      plan_adaptive_runs(plan, design.next_runs({}));
+    }
     std::string all;
     for (const PlannedRun& r : plan.runs) all += r.key.digest + "\n";
     const std::string sha = config::sha256_hex(all);
