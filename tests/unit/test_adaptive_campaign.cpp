@@ -180,6 +180,8 @@ TEST(AdaptiveCampaign, KeysAreReadStrictly) {
       {"[design.acquisition]\ntempering = 1.5\n", "design.acquisition.tempering"},
       {"[design.acquisition]\nweight_batches = 3\n", "design.acquisition.weight_batches"},
       {"[design.acquisition]\nspace_filling = 1\n", "design.acquisition.space_filling"},
+      {"[design.stopping]\nconfirm_region_parts = \"yes\"\n",
+       "design.stopping.confirm_region_parts"},
   };
   for (const auto& [lines, key] : cases) {
     const std::string what = read_error(lines).what();
