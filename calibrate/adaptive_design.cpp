@@ -241,8 +241,11 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
   // the user to run there. With confirm_region_parts the design does it itself: one run at
   // each such part's most probable node confirms the part (the run agrees with the
   // recordings) or removes it, and the region is not stable while such a part is left.
-  std::vector<Eigen::VectorXd> confirming;
-  std::vector<std::string> confirming_where;
+  struct ConfirmingRun {
+    Eigen::VectorXd theta;  // the part's most probable node
+    std::string where;      // the part's extent, for the run's reason
+  };
+  std::vector<ConfirmingRun> confirming;
   if (options_.confirm_region_parts && cal.region.available) {
     const RegionComponents parts =
         region_components(cal.region.axes, cal.region.inside, best.theta, design);
@@ -268,22 +271,20 @@ AdaptiveDesign::Stage AdaptiveDesign::analyse(std::size_t batch,
       for (std::size_t j = 0; j < problem_.parameters.size(); ++j)
         where += (j ? ", " : "") + problem_.parameters[j].name + " " + fmt(part.lower[j], 3) + "-" +
                  fmt(part.upper[j], 3);
-      confirming.push_back(theta);
-      confirming_where.push_back(where);
+      confirming.push_back({theta, where});
     }
   }
-  for (std::size_t c = 0; c < confirming.size() && static_cast<int>(st.next.size()) < count; ++c) {
+  for (const ConfirmingRun& c : confirming) {
+    if (static_cast<int>(st.next.size()) >= count) break;
     const std::size_t slot = st.next.size();
     st.next.push_back(
-        {next, slot,
-         std::vector<double>(confirming[c].data(), confirming[c].data() + confirming[c].size()), 0,
+        {next, slot, std::vector<double>(c.theta.data(), c.theta.data() + c.theta.size()), 0,
          run_seed(options_.seed, next, slot),
-         "confirms or removes a part of the 95 % region that holds no design "
-         "point (" +
-             confirming_where[c] + "), at its most probable node",
+         "confirms or removes a part of the 95 % region that holds no design point (" + c.where +
+             "), at its most probable node",
          kNaN});
     design.conservativeResize(design.rows() + 1, Eigen::NoChange);
-    design.row(design.rows() - 1) = confirming[c].transpose();
+    design.row(design.rows() - 1) = c.theta.transpose();
   }
   const std::size_t fixed_runs = st.next.size();
   std::vector<double> noise;
