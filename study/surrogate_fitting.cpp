@@ -216,6 +216,10 @@ SurrogateFitOutcome fit_surrogates(const SurrogateFitOptions& o, ProgressObserve
           << f.scatter.points << " points; leave-one-out RMSE " << human_number(f.validation.rmse)
           << ", Q² " << human_number(f.validation.q_squared) << "; DEM scatter sd "
           << human_number(f.scatter.sd);
+        if (f.scatter_trend.tested && f.scatter_trend.p_value < surrogate::kScatterTrendAlpha)
+          s << " pooled; it changes over the design (p = " << human_number(f.scatter_trend.p_value)
+            << "): " << human_number(f.scatter_trend.sd_smallest) << " to "
+            << human_number(f.scatter_trend.sd_largest) << " at the replicated points";
         observer.on_message(s.str());
       }
     }

@@ -187,6 +187,36 @@ ReplicateScatter replicate_scatter(const ReplicatedData& data) {
   return s;
 }
 
+ScatterTrend replicate_scatter_trend(const ReplicatedData& data) {
+  std::vector<Eigen::Index> first_rows;
+  std::vector<double> variances;
+  std::vector<int> dofs;
+  for (const auto& [id, rows] : groups_of(data)) {
+    if (rows.size() < 2) continue;
+    double mean = 0.0;
+    for (Eigen::Index r : rows) mean += data.y(r);
+    mean /= static_cast<double>(rows.size());
+    double ss = 0.0;
+    for (Eigen::Index r : rows) ss += (data.y(r) - mean) * (data.y(r) - mean);
+    first_rows.push_back(rows.front());
+    variances.push_back(ss / static_cast<double>(rows.size() - 1));
+    dofs.push_back(static_cast<int>(rows.size()) - 1);
+  }
+  const auto n = static_cast<Eigen::Index>(first_rows.size());
+  const Eigen::Index p = data.x.cols();
+  Eigen::MatrixXd u(n, p);
+  for (Eigen::Index k = 0; k < n; ++k)
+    for (Eigen::Index j = 0; j < p; ++j) {
+      const auto jj = static_cast<std::size_t>(j);
+      const bool boxed =
+          jj < data.lower.size() && jj < data.upper.size() && data.upper[jj] > data.lower[jj];
+      const double x = data.x(first_rows[static_cast<std::size_t>(k)], j);
+      u(k, j) = boxed ? (x - data.lower[jj]) / (data.upper[jj] - data.lower[jj]) : x;
+    }
+  return fit_scatter_trend(u, Eigen::Map<const Eigen::VectorXd>(variances.data(), n),
+                           Eigen::Map<const Eigen::VectorXi>(dofs.data(), n));
+}
+
 FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& spec) {
   const std::string& name = data.output_name;
   const SurrogateKind& kind = surrogate_kind(spec.model, name);
@@ -197,6 +227,7 @@ FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& s
   f.output_name = name;
   f.spec = spec;
   f.scatter = replicate_scatter(data);
+  f.scatter_trend = replicate_scatter_trend(data);
   const PointMeans means = point_means(data);
   for (Eigen::Index i = 0; i < data.y.size(); ++i) f.runs += std::isfinite(data.y(i)) ? 1 : 0;
   if (means.y.size() < 3)
@@ -215,6 +246,8 @@ FittedSurrogate fit_surrogate(const ReplicatedData& data, const SurrogateSpec& s
     f.scatter_check.message = name + ": no replicates, so the DEM's own scatter is unknown; leave-one-out RMSE " +
                               std::to_string(f.validation.rmse);
   }
+  if (f.scatter_trend.tested && f.scatter_trend.p_value < kScatterTrendAlpha)
+    f.scatter_check.message += "; " + describe(f.scatter_trend, kScatterTrendAlpha);
   return f;
 }
 
@@ -231,6 +264,18 @@ nlohmann::json FittedSurrogate::to_json() const {
                             {"degrees_of_freedom", scatter.degrees_of_freedom},
                             {"points", scatter.points},
                             {"mean_replicates", scatter.mean_replicates}};
+  {
+    nlohmann::json coefficients = nlohmann::json::array();
+    for (double v : scatter_trend.log_variance_coefficients) coefficients.push_back(json_number(v));
+    j["scatter_trend"] = {{"tested", scatter_trend.tested},
+                          {"log_variance_coefficients", coefficients},
+                          {"likelihood_ratio", json_number(scatter_trend.likelihood_ratio)},
+                          {"degrees_of_freedom", scatter_trend.degrees_of_freedom},
+                          {"p_value", json_number(scatter_trend.p_value)},
+                          {"sd_smallest", json_number(scatter_trend.sd_smallest)},
+                          {"sd_largest", json_number(scatter_trend.sd_largest)},
+                          {"points", scatter_trend.points}};
+  }
   j["validation"] = {{"q_squared", json_number(validation.q_squared)},
                      {"rmse", json_number(validation.rmse)},
                      {"press", json_number(validation.press)},
@@ -266,6 +311,18 @@ FittedSurrogate fitted_surrogate_from_json(const nlohmann::json& j) {
   f.scatter.degrees_of_freedom = r.at("degrees_of_freedom").get<int>();
   f.scatter.points = r.at("points").get<int>();
   f.scatter.mean_replicates = r.at("mean_replicates").get<double>();
+  if (j.contains("scatter_trend")) {  // absent from files written before 2026-12-06
+    const auto& t = j.at("scatter_trend");
+    f.scatter_trend.tested = t.at("tested").get<bool>();
+    for (const auto& v : t.at("log_variance_coefficients"))
+      f.scatter_trend.log_variance_coefficients.push_back(finite_or_nan(v));
+    f.scatter_trend.likelihood_ratio = finite_or_nan(t.at("likelihood_ratio"));
+    f.scatter_trend.degrees_of_freedom = t.at("degrees_of_freedom").get<int>();
+    f.scatter_trend.p_value = finite_or_nan(t.at("p_value"));
+    f.scatter_trend.sd_smallest = finite_or_nan(t.at("sd_smallest"));
+    f.scatter_trend.sd_largest = finite_or_nan(t.at("sd_largest"));
+    f.scatter_trend.points = t.at("points").get<int>();
+  }
   const auto& l = j.at("leave_one_out");
   f.loo.observed = vec_from(l.at("observed"));
   f.loo.mean = vec_from(l.at("mean"));

@@ -10,6 +10,7 @@
 #include "surrogate/cross_validation.hpp"
 #include "surrogate/gaussian_process.hpp"
 #include "surrogate/polynomial_surface.hpp"
+#include "surrogate/scatter_trend.hpp"
 #include "surrogate/surrogate_model.hpp"
 
 #include <Eigen/Core>
@@ -65,11 +66,20 @@ struct ReplicateScatter {
 };
 ReplicateScatter replicate_scatter(const ReplicatedData& data);
 
+// The test of scatter_trend.hpp on the points with replicates, the inputs scaled to the
+// design box (data.lower, data.upper).
+ScatterTrend replicate_scatter_trend(const ReplicatedData& data);
+
+// Above this p the scatter is read as constant over the inputs; below it the surrogate's
+// check says that it changes (FittedSurrogate::scatter_check.message).
+inline constexpr double kScatterTrendAlpha = 0.01;
+
 struct FittedSurrogate {
   std::shared_ptr<const SurrogateModel> model;
   std::string output_name;
   SurrogateSpec spec;
   ReplicateScatter scatter;
+  ScatterTrend scatter_trend;      // whether the scatter changes over the inputs
   LeaveOneOut loo;                 // over what the model was fitted to
   ValidationMetrics validation;
   ScatterCheck scatter_check;
