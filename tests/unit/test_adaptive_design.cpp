@@ -24,6 +24,7 @@
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/runs_calibration.hpp"
 #include "calibrate/weighted_variance_acquisition.hpp"
+#include "tests/support/box_muller_normal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,8 +33,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <iostream>
-#include <numbers>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -53,16 +52,7 @@ double angle_of_repose_deg(double mu_r, double mu_s) {
 // Mostly mu_s, a little mu_r: its iso-lines cross the angle's.
 double discharge_time_s(double mu_r, double mu_s) { return 6.0 * (1.0 + 0.6 * mu_s + 0.25 * mu_r); }
 
-// Box-Muller on mt19937_64's bits: the same numbers with every standard library.
-struct Normal {
-  explicit Normal(std::uint64_t seed) : rng(seed) {}
-  double operator()() {
-    const double u1 = (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;
-    const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-  std::mt19937_64 rng;
-};
+using Normal = demcal::testing::BoxMullerNormal;
 
 std::vector<double> simulate(const RunRequest& run) {
   Normal n(run.seed);

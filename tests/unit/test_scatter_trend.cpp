@@ -19,6 +19,7 @@
 
 #include "surrogate/scatter_trend.hpp"
 #include "surrogate/surrogate_fit.hpp"
+#include "tests/support/box_muller_normal.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,24 +27,13 @@
 #include <cstdint>
 #include <functional>
 #include <iostream>
-#include <numbers>
-#include <random>
 #include <stdexcept>
 #include <string>
 
 namespace demcal::surrogate {
 namespace {
 
-// Box-Muller on mt19937_64's bits: the same numbers with every standard library.
-struct Normal {
-  explicit Normal(std::uint64_t seed) : rng(seed) {}
-  double operator()() {
-    const double u1 = (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;
-    const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-  std::mt19937_64 rng;
-};
+using Normal = demcal::testing::BoxMullerNormal;
 
 // A 5 x 5 grid on the unit square, `runs` runs per point with sd exp((b0 + b1 u1 + b2 u2) / 2).
 ScatterTrend trend_of_grid(double b0, double b1, double b2, int runs, std::uint64_t seed) {
