@@ -253,7 +253,11 @@ InspectionOutcome inspect_surrogates(const SurrogateFitOptions& o, ProgressObser
     }
     calibrate::InspectedSurrogate s;
     s.setup = j.value("setup", "");
-    s.fit = surrogate::fitted_surrogate_from_json(j);
+    try {
+      s.fit = surrogate::fitted_surrogate_from_json(j);
+    } catch (const std::exception& e) {
+      throw ConfigError(file.string() + ": not a surrogate file (" + e.what() + ")");
+    }
     const auto data = data_for(c, s.setup, c.table.observable_index(s.fit.output_name));
     s.design_x = data.x;
     s.design_y = data.y;
