@@ -55,8 +55,16 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root,
            "reference_label and reference_point go together: give both or neither");
   if (design && !c.reference_point.empty()) {
     const auto& params = design->spec.parameters;
-    // (A diagnosis' extended design adds a parameter after those the point gives.)
-    for (std::size_t k = 0; k < params.size() && k < c.reference_point.size(); ++k)
+    // One value per parameter, in the design's order: checked here, at the key, rather than
+    // after both calibrations have run. (A diagnosis' derived studies have no [calibration].)
+    if (c.reference_point.size() != params.size()) {
+      std::string names;
+      for (const auto& q : params) names += (names.empty() ? "" : ", ") + q.name;
+      t.fail("reference_point", "expected " + std::to_string(params.size()) +
+                                    " values, one per [design] parameter (" + names + "), got " +
+                                    std::to_string(c.reference_point.size()));
+    }
+    for (std::size_t k = 0; k < params.size(); ++k)
       if (c.reference_point[k] < params[k].lower || c.reference_point[k] > params[k].upper)
         t.fail("reference_point",
                "entry " + std::to_string(k) + " (" + params[k].name + ") is " +
