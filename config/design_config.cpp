@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <utility>
 
@@ -126,6 +127,7 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
 
   double factorial_points = 1.0;
   const OverrideAliases& aliases = study_override_aliases();
+  std::map<std::string, std::string> set_by;  // each key the design sets -> its parameter
   for (auto& [name, node] : entries) {
     p.has(name);  // part of the schema: every entry is a parameter
     const std::size_t line = node_line(*node, p.line());
@@ -150,11 +152,12 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
     if (head == "output")
       ctx.raise(line, path_text, "cannot vary [output] keys: they do not change a run");
     if (head == "design") ctx.raise(line, path_text, "cannot vary the design itself");
-    for (std::size_t i = 0; i < out.parameter_paths.size(); ++i)
-      if (out.parameter_paths[i] == target)
-        ctx.raise(
-            line, path_text,
-            "sets " + target + ", as parameter \"" + spec.parameters[i].name + "\" does already");
+    // Every key the design sets (a parameter's own and its also_sets) is set by one
+    // parameter only: two would overwrite each other and collapse the design's points.
+    if (const auto it = set_by.find(target); it != set_by.end())
+      ctx.raise(line, path_text,
+                "sets " + target + ", as parameter \"" + it->second + "\" does already");
+    set_by.emplace(target, name);
 
     surrogate::ParameterRange r;
     r.name = name;
@@ -172,7 +175,11 @@ std::optional<DesignConfig> read_design(const Context& ctx, Table& root, toml::t
         if (k.empty() || h == "study" || h == "output" || h == "design" || k == target)
           t.fail("also_sets",
                  "expected keys of the study other than the parameter's own, got \"" + key + "\"");
+        if (const auto it = set_by.find(k); it != set_by.end() && it->second != name)
+          t.fail("also_sets", "\"" + key + "\" is set by parameter \"" + it->second +
+                                  "\" already; a key follows one parameter only");
         tied.push_back(k);
+        set_by.emplace(k, name);
       }
     }
     if (factorial) {
