@@ -89,6 +89,24 @@ std::vector<std::string> read_strings(const json& j, const std::string& key) {
   return out;
 }
 
+// The training points lie in the box the model standardises its inputs by (the fit
+// refuses a run outside the design box, study/surrogate_fitting.cpp, with the same slack):
+// a point far outside would make every prediction non-finite.
+void check_training_in_box(const Eigen::MatrixXd& x, const Eigen::VectorXd& lower,
+                           const Eigen::VectorXd& upper) {
+  if (lower.size() != x.cols() || upper.size() != x.cols()) return;  // the state's own check
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    const double slack =
+        1e-9 * (std::fabs(upper(c) - lower(c)) + std::fabs(upper(c)) + std::fabs(lower(c)));
+    for (Eigen::Index r = 0; r < x.rows(); ++r)
+      if (std::isfinite(x(r, c)) && (x(r, c) < lower(c) - slack || x(r, c) > upper(c) + slack))
+        throw std::invalid_argument("surrogate file: 'training.x[" + std::to_string(r) + "][" +
+                                    std::to_string(c) + "]' is " + json(x(r, c)).dump() +
+                                    ", outside the model's box [lower, upper] = [" +
+                                    json(lower(c)).dump() + ", " + json(upper(c)).dump() + "]");
+  }
+}
+
 void check_header(const json& j, const std::string& kind) {
   if (read_string(j, "format") != kFormat)
     throw std::invalid_argument("surrogate file: 'format' is not '" + kFormat + "'");
@@ -192,6 +210,7 @@ PolynomialSurface polynomial_surface_from_json(const json& j) {
   const json& training = at(j, "training");
   s.x = read_matrix(training, "x", p);
   s.y = vector_at(training, "y");
+  check_training_in_box(s.x, s.lower, s.upper);
   return PolynomialSurface::from_state(std::move(s));
 }
 
@@ -217,6 +236,7 @@ GaussianProcess gaussian_process_from_json(const json& j) {
   const json& training = at(j, "training");
   s.x = read_matrix(training, "x", p);
   s.y = vector_at(training, "y");
+  check_training_in_box(s.x, s.lower, s.upper);
   return GaussianProcess::from_state(std::move(s));
 }
 
