@@ -1,6 +1,7 @@
 #include "cli/export_command.hpp"
 
 #include "cli/console.hpp"
+#include "cli/directory_option.hpp"
 
 namespace demcal::cli {
 
@@ -13,7 +14,8 @@ CLI::App* add_export_command(CLI::App& app, ExportOptions& o) {
       ->check(CLI::IsMember({"liggghts", "lammps", "edem-csv", "json"}));
   cmd->add_option("--set", o.card.overrides, "Override a config value, as for doe (repeatable)");
   cmd->add_option("--output", o.card.output_dir,
-                  "Output directory of the study's runs (default out)");
+                  "Output directory of the study's runs (default out)")
+      ->check(directory_to_write());
   cmd->add_option("--card", o.card_file,
                   "Where to write the card (default <output>/<study>/material/<study>.<to>.<ext>)");
   return cmd;

@@ -3,6 +3,7 @@
 
 #include "cli/calibrate_command.hpp"
 #include "cli/diagnose_command.hpp"
+#include "cli/directory_option.hpp"
 #include "cli/doe_command.hpp"
 #include "cli/export_command.hpp"
 #include "cli/fit_command.hpp"
@@ -69,7 +70,8 @@ int main(int argc, char** argv) {
   simulate_cmd->add_option("--apparatus", apparatus,
                            "Study configs: the apparatus to run (needed when the study defines "
                            "several)");
-  simulate_cmd->add_option("--output", output, "Output directory (replaces output.directory)");
+  simulate_cmd->add_option("--output", output, "Output directory (replaces output.directory)")
+      ->check(cli::directory_to_write());
   simulate_cmd
       ->add_option("--threads", threads, "Threads (replaces simulation.threads or study.threads)")
       ->check(CLI::Range(1, 4096));
@@ -100,13 +102,15 @@ int main(int argc, char** argv) {
   doe_cmd
       ->add_option("--output", doe_opts.output_dir,
                    "Directory holding <study name>/runs and the tables")
+      ->check(cli::directory_to_write())
       ->capture_default_str();
   const char* run_store_help =
       "Keep the run records in DIR instead of <output>/<study>/runs: one store shared by several "
       "studies "
       "of the same apparatus (runs are named by the hash of their inputs, which leaves [study] "
       "out)";
-  doe_cmd->add_option("--run-store", doe_opts.run_store, run_store_help);
+  doe_cmd->add_option("--run-store", doe_opts.run_store, run_store_help)
+      ->check(cli::directory_to_write());
   doe_cmd
       ->add_option("--threads-per-run", doe_opts.threads_per_run,
                    "OpenMP threads of each run (part of each run's key)")
@@ -134,6 +138,7 @@ int main(int argc, char** argv) {
                     "The study config, with [design] and [surrogate] tables (TOML)")
         ->required();
     cmd->add_option("--output", fit_opts.output_dir, "Directory holding <study name>/ (as for doe)")
+        ->check(cli::directory_to_write())
         ->capture_default_str();
     cmd->add_option("--doe", fit_doe,
                     "The design table to fit (default: <output>/<study name>/doe.csv), e.g. a "
@@ -170,10 +175,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
   study_cmd->add_option("--output", study_opts.doe.output_dir, "Directory holding <study name>/")
+      ->check(cli::directory_to_write())
       ->capture_default_str();
   study_cmd->add_option("--set", study_opts.doe.overrides, "Override a study value (repeatable)")
       ->allow_extra_args(false);
-  study_cmd->add_option("--run-store", study_opts.doe.run_store, run_store_help);
+  study_cmd->add_option("--run-store", study_opts.doe.run_store, run_store_help)
+      ->check(cli::directory_to_write());
   study_cmd->add_flag("--quiet,-q", study_opts.doe.quiet, "No line per run");
   study_cmd->add_flag("--force", study_opts.force,
                       "Refit, re-inspect and recalibrate even if nothing changed");
@@ -193,6 +200,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
   diagnose_cmd->add_option("--output", diag_opts.output_dir, "Directory holding <study name>/")
+      ->check(cli::directory_to_write())
       ->capture_default_str();
   diagnose_cmd->add_option("--set", diag_opts.overrides, "Override a study value (repeatable)")
       ->allow_extra_args(false);
