@@ -23,7 +23,8 @@ double parse_number(const std::string& text, const std::string& file, std::size_
   const auto v = parse_csv_number(text);
   if (!v)
     fail(file, line,
-         "column " + column + ": expected a finite number or an empty cell, got \"" + text + "\"");
+         "column " + column + ": expected a finite number or an empty cell, got \"" +
+             printable(text) + "\"");
   return *v;
 }
 
@@ -38,9 +39,11 @@ double whole_number(const std::string& text, const std::string& file, std::size_
   if (std::isnan(v) || v < 0 || v > max || v != std::floor(v))
     fail(file, line,
          "column " + column + ": expected a whole number in [0, " +
-             std::to_string(static_cast<long long>(max)) + "], got \"" + text + "\"");
+             std::to_string(static_cast<long long>(max)) + "], got \"" + printable(text) + "\"");
   return v;
 }
+
+}  // namespace
 
 // Control characters shown as \xNN, so that a message stays one readable line.
 std::string printable(const std::string& s) {
@@ -59,8 +62,6 @@ std::string printable(const std::string& s) {
   return out;
 }
 
-}  // namespace
-
 std::optional<double> parse_csv_number(const std::string& text) {
   // Decimal only: std::stod would also read hexadecimal ("0x10" = 16), "inf" and "nan".
   if (text.empty() || text.find_first_not_of("0123456789+-.eE") != std::string::npos)
@@ -74,6 +75,16 @@ std::optional<double> parse_csv_number(const std::string& text) {
   }
   if (used != text.size() || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+std::ifstream open_csv_file(const std::filesystem::path& path, const std::string& what,
+                            const std::string& if_missing) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path.string() + ": is a directory; expected " + what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path.string() + ": " + if_missing);
+  return in;
 }
 
 std::string without_bom(const std::string& line) {
@@ -111,11 +122,9 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 }
 
 DoeCsv read_doe_csv(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw ConfigError(
-        path.string() +
-        ": cannot open the design table (run `demcal doe` first, or give --doe FILE)");
+  std::ifstream in =
+      open_csv_file(path, "the design table, a CSV file (e.g. <output>/<study>/doe.csv)",
+                    "cannot open the design table (run `demcal doe` first, or give --doe FILE)");
   return read_doe_csv(in, path.string());
 }
 

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <fstream>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -47,6 +48,17 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file);
 // The text as a finite number when it is one written in full (no trailing
 // characters), else nullopt: empty, "abc", "1.5x", "inf".
 std::optional<double> parse_csv_number(const std::string& text);
+
+// A CSV file demcal reads, opened in binary (the readers drop the '\r' of CRLF): a
+// ConfigError "<path>: <if_missing>" when it cannot be opened, and "<path>: is a
+// directory; expected <what>" for a directory (which opens on Linux and reads as empty).
+std::ifstream open_csv_file(const std::filesystem::path& path, const std::string& what,
+                            const std::string& if_missing);
+
+// `s` with its control characters (a NUL, a tab, a stray '\r') shown as \xNN: how every
+// CSV reader quotes a cell or a line in a message, so that it stays one readable line and
+// an invisible byte does not make "3\x0096" look like the number 396.
+std::string printable(const std::string& s);
 
 // `line` without a leading UTF-8 byte order mark (some editors write one).
 std::string without_bom(const std::string& line);

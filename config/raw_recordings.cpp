@@ -58,7 +58,8 @@ CsvRows read_rows(std::istream& in, const std::string& file,
     std::vector<std::string> f = split_csv_line(t);
     for (auto& x : f) x = trim(x);
     if (!have_header) {
-      if (f != header) fail(file, n, "expected the header " + expected + ", got \"" + t + "\"");
+      if (f != header)
+        fail(file, n, "expected the header " + expected + ", got \"" + printable(t) + "\"");
       have_header = true;
       continue;
     }
@@ -78,14 +79,13 @@ double cell_number(const std::string& file, std::size_t line, std::size_t column
   const auto v = parse_csv_number(text);
   if (!v)
     fail_cell(file, line, column, name,
-              "expected " + expected + ", got " + (text.empty() ? "an empty cell" : "\"" + text + "\""));
+              "expected " + expected + ", got " +
+                  (text.empty() ? "an empty cell" : "\"" + printable(text) + "\""));
   return *v;
 }
 
 std::ifstream open(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path.string() + ": cannot be read (no such file?)");
-  return in;
+  return open_csv_file(path, "a CSV file of readings", "cannot be read (no such file?)");
 }
 
 double degrees(double radians) { return radians * 180.0 / kPi; }
@@ -166,7 +166,7 @@ SurfaceProfile read_surface_profile_csv(std::istream& in, const std::string& fil
                                  "a finite number (metres above the floor) or an empty cell");
     if (h < 0.0)
       fail_cell(file, line, 2, "height_m",
-                "expected a height >= 0 above the pile's floor, got " + f[1]);
+                "expected a height >= 0 above the pile's floor, got " + printable(f[1]));
     p.height_m.push_back(h);
     ++readings;
   }
@@ -192,14 +192,14 @@ MassSeries read_mass_series_csv(std::istream& in, const std::string& file, doubl
                 "expected a number >= 0 (seconds since the orifice opened), got " + f[0]);
     if (!s.time_s.empty() && !(t > s.time_s.back()))
       fail_cell(file, line, 1, "time_s",
-                "expected times that increase, got " + f[0] + " after " +
+                "expected times that increase, got " + printable(f[0]) + " after " +
                     reader::format_number(s.time_s.back()));
     const double m = cell_number(file, line, 2, "discharged_mass_kg", f[1],
                                  "a finite number >= 0 (kilograms)");
     if (m < 0.0 || m > fill_mass_kg)
       fail_cell(file, line, 2, "discharged_mass_kg",
                 "expected a mass in [0, fill_mass_kg = " + reader::format_number(fill_mass_kg) +
-                    "], got " + f[1]);
+                    "], got " + printable(f[1]));
     s.time_s.push_back(t);
     s.mass_kg.push_back(m);
   }

@@ -29,7 +29,7 @@ double number(const std::filesystem::path& file, std::size_t line, const std::st
               const std::string& text) {
   if (text.empty()) fail(file, line, column + ": missing; expected a number");
   const auto v = parse_csv_number(text);
-  if (!v) fail(file, line, column + ": expected a finite number, got \"" + text + "\"");
+  if (!v) fail(file, line, column + ": expected a finite number, got \"" + printable(text) + "\"");
   return *v;
 }
 
@@ -78,8 +78,8 @@ void require_measured_by_setups(const std::vector<calibrate::Recording>& recordi
 
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
                                                       const std::vector<std::string>& setups) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path.string() + ": cannot open the recordings file");
+  std::ifstream in =
+      open_csv_file(path, "the recordings, a CSV file", "cannot open the recordings file");
   return read_recordings_csv(in, path, setups);
 }
 
@@ -97,7 +97,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
   if (header != expected)
     fail(path, 1,
          "expected the header setup,observable,value,sigma,unit (and optionally ,repeats), got \"" +
-             line + "\"");
+             printable(line) + "\"");
   std::vector<calibrate::Recording> out;
   std::set<std::pair<std::string, std::string>> seen;
   std::size_t n = 1;
@@ -117,22 +117,22 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
     r.observable = f[1];
     if (std::find(setups.begin(), setups.end(), r.setup) == setups.end())
       fail(path, n,
-           "setup \"" + r.setup + "\" is not an apparatus of the study; expected one of " +
-               joined(setups));
+           "setup \"" + printable(r.setup) +
+               "\" is not an apparatus of the study; expected one of " + joined(setups));
     const auto& names = observable_names();
     if (std::find(names.begin(), names.end(), r.observable) == names.end())
       fail(path, n,
-           "observable \"" + r.observable + "\" is not one demcal measures; expected one of " +
-               joined(names));
+           "observable \"" + printable(r.observable) +
+               "\" is not one demcal measures; expected one of " + joined(names));
     r.value = number(path, n, "value", f[2]);
     if (!observable_in_range(r.observable, r.value))
       fail(path, n,
            "value: expected " + observable_range_text(r.observable) + " for " + r.observable +
-               ", got " + f[2]);
+               ", got " + printable(f[2]));
     if (f[3].empty())
       fail(path, n, "sigma: missing; every recording needs its standard uncertainty (> 0)");
     r.sigma = number(path, n, "sigma", f[3]);
-    if (!(r.sigma > 0.0)) fail(path, n, "sigma: expected a number > 0, got " + f[3]);
+    if (!(r.sigma > 0.0)) fail(path, n, "sigma: expected a number > 0, got " + printable(f[3]));
     if (!observable_in_range(r.observable, r.sigma))
       fail(path, n,
            "sigma: expected a number > 0 within " + observable_range_text(r.observable) +
@@ -141,7 +141,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
     r.unit = f[4];
     if (r.unit != unit_of_observable(r.observable))
       fail(path, n,
-           "unit \"" + r.unit + "\" does not fit " + r.observable + "; expected \"" +
+           "unit \"" + printable(r.unit) + "\" does not fit " + r.observable + "; expected \"" +
                unit_of_observable(r.observable) + "\" (SI, as the name says)");
     if (with_repeats) {
       const double k = number(path, n, "repeats", f[5]);
@@ -149,7 +149,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
         fail(path, n,
              "repeats: expected a whole number >= 1 (how many tests the value is the mean of), "
              "got " +
-                 f[5]);
+                 printable(f[5]));
       r.repeats = static_cast<int>(k);
     }
     if (!seen.insert({r.setup, r.observable}).second)
@@ -164,8 +164,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
 
 calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path,
                                           const std::string& setup) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path.string() + ": cannot open the series file");
+  std::ifstream in = open_csv_file(path, "a series, a CSV file", "cannot open the series file");
   return read_series_csv(in, path, setup);
 }
 
