@@ -161,6 +161,31 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file) {
     c_par.push_back(c);
     t.parameter_names.push_back(header[c]);
   }
+  // Every column is read once: a second column of a name, or one demcal does not read (a
+  // misspelt optional observable such as "discharge_t50_sec"), would be dropped silently.
+  {
+    std::vector<bool> read(header.size(), false);
+    for (const std::size_t c : {c_point, c_rep, c_seed, c_app, c_status, c_hash}) read[c] = true;
+    for (const std::size_t c : c_obs) read[c] = true;
+    for (const std::size_t c : c_par) read[c] = true;
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      for (std::size_t e = 0; e < c; ++e)
+        if (header[e] == header[c])
+          fail(t.file, 1,
+               "column \"" + printable(header[c]) + "\" appears twice (columns " +
+                   std::to_string(e + 1) + " and " + std::to_string(c + 1) + "); each column once");
+      if (!read[c]) {
+        std::string optional;
+        for (const auto& name : series_observable_names())
+          optional += (optional.empty() ? "" : ", ") + name;
+        fail(t.file, 1,
+             "column " + std::to_string(c + 1) + " \"" + printable(header[c]) +
+                 "\" is not one demcal reads; after the parameters come the observables (the "
+                 "optional ones: " +
+                 optional + "), then status and hash");
+      }
+    }
+  }
   std::map<std::tuple<std::string, int, int>, std::size_t> seen;  // -> its line
   std::size_t n = 1;
   while (std::getline(in, line)) {
