@@ -246,6 +246,8 @@ StudyConfig build_study(ConfigDocument&& doc) {
           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
         }))
       t.fail_here("a setup name takes letters, digits, _ and - only (it names files)");
+    if (const std::string why = reader::file_name_problem(name); !why.empty())
+      t.fail_here("a setup name names files: " + why);
     StudyApparatus a;
     a.name = name;
     a.kind = kind;

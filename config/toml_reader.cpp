@@ -116,14 +116,19 @@ std::string file_name_problem(std::string_view name) {
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "it holds a control character";
   }
   if (name.find("..") != std::string::npos) return "it holds \"..\"";
+  // A file system takes 255 bytes per name; demcal adds to a name (<setup>.<observable>.json,
+  // <study>-<candidate> of a diagnosis), so a name alone keeps well under that.
+  if (name.size() > kMaxFileNameBytes)
+    return "it is " + std::to_string(name.size()) + " bytes long, more than " +
+           std::to_string(kMaxFileNameBytes) + " (file names take at most 255 bytes)";
   return "";
 }
 
 std::string read_run_name(Table& t, std::string_view key) {
   std::string name = t.string(key);
-  if (!file_name_problem(name).empty())
+  if (const std::string why = file_name_problem(name); !why.empty())
     t.fail(key, "expected a non-empty name without '/' (it names the output directory), got \"" +
-                    name + "\"");
+                    name + "\": " + why);
   return name;
 }
 

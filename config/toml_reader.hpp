@@ -490,8 +490,10 @@ void require_above(Table& t, std::string_view upper_key, const Vec3& lower, cons
 std::unique_ptr<dem::SizeDistribution> read_size(Table& s);
 
 // Why `name` cannot be one component of a file name (empty, "." or "..", a
-// path separator, "..", a NUL or other control character), or "" when it can.
+// path separator, "..", a NUL or other control character, longer than
+// kMaxFileNameBytes), or "" when it can.
 // Every name that becomes part of a file name is checked with it.
+inline constexpr std::size_t kMaxFileNameBytes = 100;
 std::string file_name_problem(std::string_view name);
 
 // A name that also names an output directory: non-empty, no '/'.
