@@ -8,6 +8,7 @@
 
 #include "calibrate/discrepancy_diagnosis.hpp"
 #include "surrogate/surrogate_model.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -96,15 +97,7 @@ struct Normal {
   gsl_rng* rng;
 };
 
-template <class F>
-inline std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 // ---------------------------------------------------------------------------------------
 // The analytic world

@@ -3,6 +3,7 @@
 // likelihood-ratio region over noisy recordings, distinct minima, the Gauss-Newton
 // covariance and the MCMC posterior against a linear-Gaussian closed form, and input checks.
 #include "calibrate/calibration.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gtest/gtest.h>
 
@@ -115,15 +116,7 @@ CalibrationOptions quick_options() {
   return o;
 }
 
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 // Appends rather than writing "y" + std::to_string(i): GCC 12 raises a false -Wrestrict
 // on operator+(const char*, std::string&&).

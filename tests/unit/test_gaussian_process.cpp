@@ -4,6 +4,7 @@
 #include "surrogate/cross_validation.hpp"
 #include "surrogate/gaussian_process.hpp"
 #include "surrogate/surrogate_io.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gtest/gtest.h>
 
@@ -37,15 +38,7 @@ Eigen::VectorXd gaussian_noise(int n, double sd, std::uint64_t seed) {
   return e;
 }
 
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -5,6 +5,7 @@
 #include "surrogate/full_factorial_design.hpp"
 #include "surrogate/polynomial_surface.hpp"
 #include "surrogate/surrogate_io.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gtest/gtest.h>
 
@@ -39,16 +40,7 @@ Eigen::VectorXd gaussian_noise(int n, double sd, std::uint64_t seed) {
   return e;
 }
 
-// The message of the std::invalid_argument that `f` throws ("" when it throws none).
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -20,12 +20,12 @@
 #include "surrogate/scatter_trend.hpp"
 #include "surrogate/surrogate_fit.hpp"
 #include "tests/support/box_muller_normal.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -124,14 +124,7 @@ TEST(ScatterTrend, TheFitIsTheConstantOneWhenThereIsNoTrendInTheData) {
   EXPECT_NE(describe(e).find("the scatter changes over the inputs"), std::string::npos);
 }
 
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 TEST(ScatterTrend, BadArgumentsAreRefusedByNameAndTooFewPointsAreNotTested) {
   Eigen::MatrixXd u(3, 2);
@@ -140,17 +133,17 @@ TEST(ScatterTrend, BadArgumentsAreRefusedByNameAndTooFewPointsAreNotTested) {
       fit_scatter_trend(u, Eigen::VectorXd::Constant(3, 1.0), Eigen::VectorXi::Constant(3, 1));
   EXPECT_FALSE(few.tested);
   EXPECT_NE(describe(few).find("not tested"), std::string::npos);
-  EXPECT_NE(message_of([&] {
+  EXPECT_NE(invalid_argument_message([&] {
               fit_scatter_trend(u, Eigen::VectorXd::Constant(2, 1.0),
                                 Eigen::VectorXi::Constant(3, 1));
             }).find("differ in length"),
             std::string::npos);
-  EXPECT_NE(message_of([&] {
+  EXPECT_NE(invalid_argument_message([&] {
               fit_scatter_trend(u, Eigen::VectorXd::Constant(3, -1.0),
                                 Eigen::VectorXi::Constant(3, 1));
             }).find("sample_variance"),
             std::string::npos);
-  EXPECT_NE(message_of([&] {
+  EXPECT_NE(invalid_argument_message([&] {
               fit_scatter_trend(u, Eigen::VectorXd::Constant(3, 1.0),
                                 Eigen::VectorXi::Constant(3, 0));
             }).find("degrees_of_freedom"),

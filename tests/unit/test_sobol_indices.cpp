@@ -2,6 +2,7 @@
 // intervals, a surrogate's indices, and input checks.
 #include "surrogate/polynomial_surface.hpp"
 #include "surrogate/sobol_indices.hpp"
+#include "tests/support/invalid_argument_message.hpp"
 
 #include <gtest/gtest.h>
 
@@ -108,15 +109,7 @@ TEST(SobolIndices, OfASurrogateWithAnAdditiveLinearResponse) {
   EXPECT_NEAR(s.variance, 13.0 / 12.0, 0.01);
 }
 
-template <class F>
-std::string invalid_argument_message(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+using demcal::testing::invalid_argument_message;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
