@@ -1,6 +1,8 @@
 #include "config/calibration_config.hpp"
 
 #include "config/observables.hpp"
+#include "config/study_config.hpp"
+#include "config/toml_reader.hpp"
 
 #include <limits>
 
@@ -47,6 +49,21 @@ std::optional<CalibrationConfig> read_calibration(reader::Table& root,
     c.verify = v.is_absolute() ? v : std::filesystem::path(study_file).parent_path() / v;
     if (!std::filesystem::exists(c.verify))
       t.fail("verify", "no such study config: " + c.verify.string());
+    if (std::filesystem::is_directory(c.verify))
+      t.fail("verify", c.verify.string() + " is a directory; expected a study config file");
+    // Read now, not after both calibrations have run: a verification that cannot start
+    // should stop `--dry-run`, not the end of a study. Only read (its own keys are checked
+    // when it runs), so that two studies verifying each other do not recurse.
+    ConfigDocument doc;
+    try {
+      doc = read_config_file(c.verify);
+    } catch (const ConfigError& e) {
+      t.fail("verify", std::string("cannot be read as a study config: ") + e.what());
+    }
+    if (!is_study_config(doc))
+      t.fail("verify", c.verify.string() +
+                           " is not a study config (it has no [apparatus] table); verification "
+                           "runs a study's apparatus at the calibrated point");
   }
   c.reference_label = t.string_or("reference_label", "");
   c.reference_point = t.numbers_or_empty("reference_point");

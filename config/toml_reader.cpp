@@ -418,8 +418,16 @@ void set_config_value(ConfigDocument& doc, std::string_view path, toml::node&& v
                       origin + ")");
   };
   auto record = [&](const std::string& canon, std::size_t line) {
-    // A path set twice keeps the line of the original key.
-    if (auto it = doc.overrides.find(canon); it != doc.overrides.end()) line = it->second.line;
+    if (auto it = doc.overrides.find(canon); it != doc.overrides.end()) {
+      // Two --set of one key (perhaps one by its alias) would let the later win unseen:
+      // which value the user meant is not ours to guess.
+      const auto from_command_line = [](const std::string& o) { return o.rfind("--set ", 0) == 0; };
+      if (from_command_line(origin) && from_command_line(it->second.text))
+        throw ConfigError(doc.file + ": " + origin + ": sets " + canon + ", which " +
+                          it->second.text + " already sets; give each key once");
+      // A path set twice keeps the line of the original key.
+      line = it->second.line;
+    }
     doc.overrides[canon] = {origin, line};
   };
 

@@ -25,6 +25,10 @@ std::vector<calibrate::ParameterBounds> design_bounds(const StudyConfig& study) 
 }
 
 surrogate::FittedSurrogate load_surrogate(const fs::path& file) {
+  if (fs::is_directory(file))
+    throw ConfigError(file.string() +
+                      ": is a directory; expected a surrogate file (JSON) written "
+                      "by `demcal fit`");
   std::ifstream in(file);
   if (!in) throw ConfigError(file.string() + ": no such surrogate; run `demcal fit` first");
   try {

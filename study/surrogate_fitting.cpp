@@ -244,6 +244,10 @@ InspectionOutcome inspect_surrogates(const SurrogateFitOptions& o, ProgressObser
     if (e.path().extension() == ".json") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   for (const auto& file : files) {
+    if (fs::is_directory(file))
+      throw ConfigError(file.string() +
+                        ": is a directory; expected a surrogate file (JSON) "
+                        "written by `demcal fit`");
     std::ifstream in(file);
     nlohmann::json j;
     try {

@@ -3,6 +3,7 @@
 #include "io/atomic_file.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -276,6 +277,9 @@ void save_surrogate(const SurrogateModel& model, const std::filesystem::path& pa
 }
 
 std::unique_ptr<SurrogateModel> load_surrogate(const std::filesystem::path& path) {
+  if (std::filesystem::is_directory(path))
+    throw std::invalid_argument("surrogate file '" + path.string() +
+                                "': is a directory; expected a surrogate JSON file");
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read surrogate file '" + path.string() + "'");
   json j;
