@@ -77,8 +77,8 @@ std::optional<double> parse_csv_number(const std::string& text) {
   return v;
 }
 
-std::ifstream open_csv_file(const std::filesystem::path& path, const std::string& what,
-                            const std::string& if_missing) {
+std::ifstream open_input_file(const std::filesystem::path& path, const std::string& what,
+                              const std::string& if_missing) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw ConfigError(path.string() + ": is a directory; expected " + what);
@@ -123,8 +123,8 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 
 DoeCsv read_doe_csv(const std::filesystem::path& path) {
   std::ifstream in =
-      open_csv_file(path, "the design table, a CSV file (e.g. <output>/<study>/doe.csv)",
-                    "cannot open the design table (run `demcal doe` first, or give --doe FILE)");
+      open_input_file(path, "the design table, a CSV file (e.g. <output>/<study>/doe.csv)",
+                      "cannot open the design table (run `demcal doe` first, or give --doe FILE)");
   return read_doe_csv(in, path.string());
 }
 

@@ -49,11 +49,12 @@ DoeCsv read_doe_csv(std::istream& in, const std::string& file);
 // characters), else nullopt: empty, "abc", "1.5x", "inf".
 std::optional<double> parse_csv_number(const std::string& text);
 
-// A CSV file demcal reads, opened in binary (the readers drop the '\r' of CRLF): a
+// A file demcal reads (a CSV, a surrogate's JSON), opened in binary (the CSV readers drop
+// the '\r' of CRLF): a
 // ConfigError "<path>: <if_missing>" when it cannot be opened, and "<path>: is a
 // directory; expected <what>" for a directory (which opens on Linux and reads as empty).
-std::ifstream open_csv_file(const std::filesystem::path& path, const std::string& what,
-                            const std::string& if_missing);
+std::ifstream open_input_file(const std::filesystem::path& path, const std::string& what,
+                              const std::string& if_missing);
 
 // `s` with its control characters (a NUL, a tab, a stray '\r') shown as \xNN: how every
 // CSV reader quotes a cell or a line in a message, so that it stays one readable line and

@@ -85,7 +85,7 @@ double cell_number(const std::string& file, std::size_t line, std::size_t column
 }
 
 std::ifstream open(const fs::path& path) {
-  return open_csv_file(path, "a CSV file of readings", "cannot be read (no such file?)");
+  return open_input_file(path, "a CSV file of readings", "cannot be read (no such file?)");
 }
 
 double degrees(double radians) { return radians * 180.0 / kPi; }

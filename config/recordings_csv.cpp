@@ -79,7 +79,7 @@ void require_measured_by_setups(const std::vector<calibrate::Recording>& recordi
 std::vector<calibrate::Recording> read_recordings_csv(const std::filesystem::path& path,
                                                       const std::vector<std::string>& setups) {
   std::ifstream in =
-      open_csv_file(path, "the recordings, a CSV file", "cannot open the recordings file");
+      open_input_file(path, "the recordings, a CSV file", "cannot open the recordings file");
   return read_recordings_csv(in, path, setups);
 }
 
@@ -164,7 +164,7 @@ std::vector<calibrate::Recording> read_recordings_csv(std::istream& in,
 
 calibrate::RecordedSeries read_series_csv(const std::filesystem::path& path,
                                           const std::string& setup) {
-  std::ifstream in = open_csv_file(path, "a series, a CSV file", "cannot open the series file");
+  std::ifstream in = open_input_file(path, "a series, a CSV file", "cannot open the series file");
   return read_series_csv(in, path, setup);
 }
 

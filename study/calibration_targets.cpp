@@ -1,6 +1,7 @@
 #include "study/calibration_targets.hpp"
 
 #include "calibrate/scatter_budget.hpp"
+#include "config/doe_csv.hpp"
 #include "config/recordings_csv.hpp"
 #include "config/toml_reader.hpp"
 
@@ -25,12 +26,9 @@ std::vector<calibrate::ParameterBounds> design_bounds(const StudyConfig& study) 
 }
 
 surrogate::FittedSurrogate load_surrogate(const fs::path& file) {
-  if (fs::is_directory(file))
-    throw ConfigError(file.string() +
-                      ": is a directory; expected a surrogate file (JSON) written "
-                      "by `demcal fit`");
-  std::ifstream in(file);
-  if (!in) throw ConfigError(file.string() + ": no such surrogate; run `demcal fit` first");
+  std::ifstream in =
+      config::open_input_file(file, "a surrogate file (JSON) written by `demcal fit`",
+                              "no such surrogate; run `demcal fit` first");
   try {
     return surrogate::fitted_surrogate_from_json(nlohmann::json::parse(in));
   } catch (const std::exception& e) {

@@ -244,11 +244,8 @@ InspectionOutcome inspect_surrogates(const SurrogateFitOptions& o, ProgressObser
     if (e.path().extension() == ".json") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   for (const auto& file : files) {
-    if (fs::is_directory(file))
-      throw ConfigError(file.string() +
-                        ": is a directory; expected a surrogate file (JSON) "
-                        "written by `demcal fit`");
-    std::ifstream in(file);
+    std::ifstream in = config::open_input_file(
+        file, "a surrogate file (JSON) written by `demcal fit`", "cannot open the surrogate file");
     nlohmann::json j;
     try {
       in >> j;
