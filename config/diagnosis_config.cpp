@@ -4,8 +4,9 @@
 
 namespace demcal::config {
 
-std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
-                                              const std::vector<std::string>& setups) {
+std::optional<DiagnosisConfig> read_diagnosis(
+    reader::Table& root, const std::vector<std::string>& setups,
+    const std::vector<surrogate::ParameterRange>& design) {
   if (!root.has("diagnosis")) return std::nullopt;
   reader::Table t = root.table("diagnosis");
   DiagnosisConfig c;
@@ -43,6 +44,31 @@ std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
       r.fail("upper", "expected a number > lower (" + reader::format_number(*range.lower) + ")");
     r.finish();
     c.ranges[name] = range;
+  }
+  if (t.has("plausible")) {
+    reader::Table r = t.table("plausible");
+    std::vector<std::string> known;
+    for (const auto& p : design) known.push_back(p.name);
+    if (design.empty())
+      t.fail("plausible", "the study has no [design]: there are no design parameters to bound");
+    for (const auto& p : design) {
+      if (!r.has(p.name)) continue;
+      const std::vector<double> v = r.numbers_or_empty(p.name);
+      if (v.size() != 2)
+        r.fail(p.name, "expected [lower, upper], two numbers, got " + std::to_string(v.size()));
+      if (!(v[1] > v[0]))
+        r.fail(p.name, "expected upper > lower, got [" + reader::format_number(v[0]) + ", " +
+                           reader::format_number(v[1]) + "]");
+      // The design's own box must be plausible: a range narrower than the box would say the
+      // design already runs values the material cannot have.
+      if (v[0] > p.lower || v[1] < p.upper)
+        r.fail(p.name, "[" + reader::format_number(v[0]) + ", " + reader::format_number(v[1]) +
+                           "] does not enclose the design's range of " + p.name + " [" +
+                           reader::format_number(p.lower) + ", " + reader::format_number(p.upper) +
+                           "]; expected a plausible range that holds the design's box");
+      c.plausible[p.name] = {v[0], v[1]};
+    }
+    r.finish();
   }
   t.finish();
   return c;

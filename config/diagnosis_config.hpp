@@ -28,12 +28,20 @@
 //   lower = 0.0
 //   upper = 5e-3
 //   probe = 2e-3
+//   [diagnosis.plausible]             # opt, per design parameter: [lower, upper] of the values
+//   mu_r = [0.0, 0.5]                 #   the material can have (enclosing the design's box).
+//   mu_s = [0.1, 1.0]                 #   The base design never grows beyond them, and a base
+//                                     #   fit that sits on one of them counts as a mismatch:
+//                                     #   the recordings are matched only by a value the
+//                                     #   material cannot have, so the candidates are probed
 
 #include "config/toml_reader.hpp"
+#include "surrogate/full_factorial_design.hpp"
 
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace demcal::config {
@@ -53,11 +61,17 @@ struct DiagnosisConfig {
   double required_log_bayes_factor = 3.0;
   int probe_grid = 200;
   std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides
+  // Per design parameter (by name), [lower, upper] of the material's plausible values;
+  // a parameter not listed has none (only the default rule: a lower bound of 0 is physical).
+  std::map<std::string, std::pair<double, double>> plausible;
   std::size_t line = 0;
 };
 
-// Reads [diagnosis] if present; `setups` are the study's apparatus names (for hold_out).
+// Reads [diagnosis] if present; `setups` are the study's apparatus names (for hold_out),
+// `design` the study's design parameters with their boxes (for [diagnosis.plausible]; empty
+// when the study has no [design]).
 std::optional<DiagnosisConfig> read_diagnosis(reader::Table& root,
-                                              const std::vector<std::string>& setups);
+                                              const std::vector<std::string>& setups,
+                                              const std::vector<surrogate::ParameterRange>& design);
 
 }  // namespace demcal::config

@@ -296,7 +296,9 @@ StudyConfig build_study(ConfigDocument&& doc) {
   {
     std::vector<std::string> setups;
     for (const auto& a : out.apparatus) setups.push_back(a.name);
-    out.diagnosis = read_diagnosis(root, setups);
+    out.diagnosis = read_diagnosis(
+        root, setups,
+        out.design ? out.design->spec.parameters : std::vector<surrogate::ParameterRange>{});
     out.raw_recordings = read_raw_recordings(root, setups, doc.file);
   }
 

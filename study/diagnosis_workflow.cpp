@@ -561,6 +561,8 @@ void write_report(const fs::path& dir, const std::string& study_name,
 
 // A fit "sits on" a bound within 1 % of the parameter's range: the rule of both the
 // design's extension and the caveat of a reproduced fit.
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 bool on_lower_bound(const calibrate::ParameterBounds& b, double v) {
   return v - b.lower <= 0.01 * (b.upper - b.lower);
 }
@@ -630,12 +632,15 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
                                  const Eigen::VectorXd& theta,
                                  const std::vector<calibrate::Target>& targets,
                                  const std::vector<double>& single_run_scatter,
-                                 const std::vector<bool>& fitted, int points) {
+                                 const std::vector<bool>& fitted, int points,
+                                 const std::vector<calibrate::ParameterBounds>& plausible) {
   if (static_cast<std::size_t>(theta.size()) != bounds.size() ||
-      single_run_scatter.size() != targets.size() || fitted.size() != targets.size())
+      single_run_scatter.size() != targets.size() || fitted.size() != targets.size() ||
+      (!plausible.empty() && plausible.size() != bounds.size()))
     throw std::invalid_argument(
         "design_extension: theta needs one value per parameter, "
-        "single_run_scatter and fitted one entry per target");
+        "single_run_scatter and fitted one entry per target, plausible none or one per "
+        "parameter");
   DesignExtension e;
   e.bounds = bounds;
   e.points = points;
@@ -645,23 +650,40 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
     const double lo = bounds[k].lower, up = bounds[k].upper, range = up - lo;
     const double v = theta(static_cast<Eigen::Index>(k));
     const std::string at = bounds[k].name + " = " + format_number(v);
+    // Without a stated range a lower bound of 0 is physical (frictions, energies, spreads).
+    const bool stated_lower = !plausible.empty() && std::isfinite(plausible[k].lower);
+    const bool stated_upper = !plausible.empty() && std::isfinite(plausible[k].upper);
+    const double floor = stated_lower ? plausible[k].lower : 0.0;
+    const double ceiling = stated_upper ? plausible[k].upper : kInf;
     if (on_lower_bound(bounds[k], v)) {
-      if (lo > 0.0) {
-        e.bounds[k].lower = std::max(0.0, lo - 0.5 * range);
+      if (lo > floor) {
+        e.bounds[k].lower = std::max(floor, lo - 0.5 * range);
         moved = true;
         e.reasons.push_back("the base fit sits on the design's lower bound (" + at +
                             "): the design is extended down to " +
                             format_number(e.bounds[k].lower));
+      } else if (stated_lower) {
+        e.reasons.push_back("the base fit sits on the lower bound " + format_number(lo) + " of " +
+                            bounds[k].name +
+                            ", the plausible limit the study states ([diagnosis.plausible]): "
+                            "not extended");
       } else {
         e.reasons.push_back("the base fit sits on the lower bound " + format_number(lo) + " of " +
                             bounds[k].name + ", taken as physical: not extended");
       }
     }
     if (on_upper_bound(bounds[k], v)) {
-      e.bounds[k].upper = up + 0.5 * range;
-      moved = true;
-      e.reasons.push_back("the base fit sits on the design's upper bound (" + at +
-                          "): the design is extended up to " + format_number(e.bounds[k].upper));
+      if (up < ceiling) {
+        e.bounds[k].upper = std::min(ceiling, up + 0.5 * range);
+        moved = true;
+        e.reasons.push_back("the base fit sits on the design's upper bound (" + at +
+                            "): the design is extended up to " + format_number(e.bounds[k].upper));
+      } else {
+        e.reasons.push_back("the base fit sits on the upper bound " + format_number(up) + " of " +
+                            bounds[k].name +
+                            ", the plausible limit the study states ([diagnosis.plausible]): "
+                            "not extended");
+      }
     }
   }
   bool unsure = false;
@@ -690,6 +712,47 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
       e.design_box[k].upper = std::min(bounds[k].upper, v + 0.25 * range);
     }
   return e;
+}
+
+std::vector<std::string> fit_on_plausible_limit(
+    const std::vector<calibrate::ParameterBounds>& bounds, const Eigen::VectorXd& theta,
+    const std::vector<calibrate::ParameterBounds>& plausible) {
+  std::vector<std::string> out;
+  if (plausible.empty()) return out;
+  if (plausible.size() != bounds.size() || static_cast<std::size_t>(theta.size()) != bounds.size())
+    throw std::invalid_argument(
+        "fit_on_plausible_limit: theta and plausible need one entry per parameter");
+  for (std::size_t k = 0; k < bounds.size(); ++k) {
+    const double v = theta(static_cast<Eigen::Index>(k));
+    const std::string at = bounds[k].name + " = " + format_number(v);
+    if (std::isfinite(plausible[k].lower) && bounds[k].lower <= plausible[k].lower &&
+        on_lower_bound(bounds[k], v))
+      out.push_back(at + ", on its plausible lower limit " + format_number(plausible[k].lower));
+    else if (std::isfinite(plausible[k].upper) && bounds[k].upper >= plausible[k].upper &&
+             on_upper_bound(bounds[k], v))
+      out.push_back(at + ", on its plausible upper limit " + format_number(plausible[k].upper));
+  }
+  return out;
+}
+
+calibrate::MismatchDetection deciding_detection(const calibrate::MismatchDetection& detection,
+                                                const std::vector<std::string>& on_limit) {
+  if (on_limit.empty() || detection.verdict != calibrate::MismatchVerdict::reproduced)
+    return detection;
+  calibrate::MismatchDetection d = detection;
+  d.verdict = calibrate::MismatchVerdict::mismatch;
+  std::string list = on_limit.front();
+  for (std::size_t i = 1; i < on_limit.size(); ++i) list += " and " + on_limit[i];
+  d.statement =
+      "The base model matches the recordings only on the edge of what the material "
+      "can have (" +
+      list +
+      ", [diagnosis.plausible]): that is read as a mismatch, "
+      "and the candidates are probed (the chi-square test alone would not alarm: "
+      "chi2/dof = " +
+      calibrate::format_number(detection.chi_square_per_dof) + ", " +
+      calibrate::p_value_text(detection.p_value) + ").";
+  return d;
 }
 
 std::string bound_caveat(const std::vector<calibrate::ParameterBounds>& bounds,
@@ -858,11 +921,21 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   const StudySource source = StudySource::read(o.study, o.overrides);
   const surrogate::SurrogateSpec spec =
       study.surrogate ? study.surrogate->spec : surrogate::SurrogateSpec{};
+  // [diagnosis.plausible], one entry per parameter (+-inf where none is stated), or none.
+  std::vector<calibrate::ParameterBounds> plausible;
+  if (!dc.plausible.empty())
+    for (const auto& b : bounds) {
+      const auto it = dc.plausible.find(b.name);
+      plausible.push_back(
+          it == dc.plausible.end()
+              ? calibrate::ParameterBounds{b.name, -kInf, kInf}
+              : calibrate::ParameterBounds{b.name, it->second.first, it->second.second});
+    }
   std::vector<DesignExtension> extensions;
   for (int round = 1; round <= dc.design_extensions; ++round) {
     DesignExtension extension =
         design_extension(bounds, test.base.minima.at(0).theta, test.targets,
-                         test.single_run_scatter, fitted_mask, dc.extended_points);
+                         test.single_run_scatter, fitted_mask, dc.extended_points, plausible);
     if (!extension.needed) break;
     // A densification only (surrogates unsure, no bound moved) is done once: a second one
     // in the same box would chase the DEM's own scatter.
@@ -927,7 +1000,12 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   }
   const std::vector<calibrate::Target>& targets = test.targets;
   const calibrate::CalibrationResult& base = test.base;
-  const calibrate::MismatchDetection& detection = test.correlated.detection;
+  // A fit on a plausible limit is matched only by a value the material cannot have: the
+  // candidates are probed as for a mismatch the test sees (fit_on_plausible_limit).
+  const std::vector<std::string> on_limit =
+      fit_on_plausible_limit(bounds, test.base.minima.at(0).theta, plausible);
+  const calibrate::MismatchDetection detection =
+      deciding_detection(test.correlated.detection, on_limit);
   observer.on_message(detection.statement);
 
   std::vector<calibrate::CandidateModule> modules;
@@ -1113,6 +1191,18 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   j["detection"]["scatter_degrees_of_freedom"] = test.scatter_degrees_of_freedom;
   j["detection"]["method"] = "correlated, local scatter, predictive p";
   j["discrepancy_judgement"] = judgement.to_json();
+  {
+    nlohmann::json box = nlohmann::json::array();
+    for (const auto& b : plausible)
+      box.push_back(
+          {{"name", b.name},
+           {"lower", std::isfinite(b.lower) ? nlohmann::json(b.lower) : nlohmann::json()},
+           {"upper", std::isfinite(b.upper) ? nlohmann::json(b.upper) : nlohmann::json()}});
+    j["plausible"] = {
+        {"ranges", box},
+        {"fit_on_limit", on_limit},
+        {"read_as_mismatch", detection.mismatch() && !test.correlated.detection.mismatch()}};
+  }
   j["raw_recordings"] = raw_json;
   {
     // The first keys summarise every round (the final box); "rounds" has each.

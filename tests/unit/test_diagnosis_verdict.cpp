@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -290,6 +291,91 @@ TEST(DiagnosisDesignExtension, AFitOnABoundOrUnsureSurrogatesExtendTheDesign) {
       study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {0.02}, {true}, 16).needed);
   EXPECT_THROW(study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {}, {true}, 16),
                std::invalid_argument);
+}
+
+// (e) [diagnosis.plausible]: the design grows up to the material's plausible limit and no
+//     further; a bound already on it stays, and says why. Limits not stated keep the rule
+//     above (a lower bound of 0 is physical, an upper bound grows by half the range).
+TEST(DiagnosisDesignExtension, NeverGrowsBeyondThePlausibleRange) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<calibrate::ParameterBounds> b = {{"mu_r", 0.05, 0.4}, {"mu_s", 0.2, 0.9}};
+  const std::vector<calibrate::ParameterBounds> plausible = {{"mu_r", 0.0, 0.5},
+                                                             {"mu_s", -inf, inf}};
+  calibrate::Target t;
+  t.setup = "sandglass";
+  t.observable = "discharge_time_s";
+  t.model = std::make_shared<Linear>(1.0, 0.5, 2.0, 0.0);
+  const std::vector<calibrate::Target> sure = {t};
+
+  // Half the range (0.175) would take mu_r to 0.575: the limit 0.5 stops it.
+  auto e =
+      study::design_extension(b, Eigen::Vector2d(0.4, 0.5), sure, {0.02}, {true}, 16, plausible);
+  EXPECT_TRUE(e.needed);
+  EXPECT_TRUE(e.moved);
+  EXPECT_DOUBLE_EQ(e.bounds[0].upper, 0.5);
+  // Down: 0.05 - 0.175 is below the stated 0.
+  e = study::design_extension(b, Eigen::Vector2d(0.05, 0.5), sure, {0.02}, {true}, 16, plausible);
+  EXPECT_DOUBLE_EQ(e.bounds[0].lower, 0.0);
+  // mu_s has no stated range: the old rule (up by half the range, down not below 0).
+  e = study::design_extension(b, Eigen::Vector2d(0.2, 0.9), sure, {0.02}, {true}, 16, plausible);
+  EXPECT_DOUBLE_EQ(e.bounds[1].upper, 0.9 + 0.35);
+
+  // Once the box reaches the limit, a fit on it does not move it again.
+  const std::vector<calibrate::ParameterBounds> grown = {{"mu_r", 0.05, 0.5}, {"mu_s", 0.2, 0.9}};
+  e = study::design_extension(grown, Eigen::Vector2d(0.5, 0.5), sure, {0.02}, {true}, 16,
+                              plausible);
+  EXPECT_FALSE(e.needed);
+  EXPECT_DOUBLE_EQ(e.bounds[0].upper, 0.5);
+  ASSERT_EQ(e.reasons.size(), 1u);
+  EXPECT_NE(e.reasons[0].find("plausible limit"), std::string::npos) << e.reasons[0];
+
+  EXPECT_THROW(study::design_extension(b, Eigen::Vector2d(0.4, 0.5), sure, {0.02}, {true}, 16,
+                                       {plausible[0]}),
+               std::invalid_argument);
+}
+
+// A fit on a stated plausible limit is matched only by a value the material cannot have:
+// it is read as a mismatch (the candidates are probed), whatever the chi^2 test said; a fit
+// on a design bound that is not such a limit, or inside, is not; without a stated range the
+// rule never fires.
+TEST(DiagnosisVerdict, AFitOnAPlausibleLimitIsReadAsAMismatch) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<calibrate::ParameterBounds> box = {{"mu_r", 0.05, 0.5}, {"mu_s", 0.2, 0.9}};
+  const std::vector<calibrate::ParameterBounds> plausible = {{"mu_r", 0.0, 0.5},
+                                                             {"mu_s", 0.1, inf}};
+  EXPECT_TRUE(study::fit_on_plausible_limit(box, Eigen::Vector2d(0.3, 0.5), plausible).empty());
+  EXPECT_TRUE(study::fit_on_plausible_limit(box, Eigen::Vector2d(0.5, 0.5), {}).empty());
+  // mu_r on 0.05: a design bound, not the plausible 0 -- the design can still grow there.
+  EXPECT_TRUE(study::fit_on_plausible_limit(box, Eigen::Vector2d(0.05, 0.5), plausible).empty());
+  // mu_s on 0.9: no upper limit is stated.
+  EXPECT_TRUE(study::fit_on_plausible_limit(box, Eigen::Vector2d(0.3, 0.9), plausible).empty());
+  const auto on = study::fit_on_plausible_limit(box, Eigen::Vector2d(0.499, 0.5), plausible);
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_NE(on[0].find("mu_r = 0.499, on its plausible upper limit 0.5"), std::string::npos)
+      << on[0];
+  const std::vector<calibrate::ParameterBounds> low = {{"mu_r", 0.0, 0.5}, {"mu_s", 0.1, 0.9}};
+  EXPECT_EQ(study::fit_on_plausible_limit(low, Eigen::Vector2d(0.0, 0.1), plausible).size(), 2u);
+
+  const auto reproduced = detection(false);
+  ASSERT_FALSE(reproduced.mismatch());
+  const auto read = study::deciding_detection(reproduced, on);
+  EXPECT_TRUE(read.mismatch());
+  EXPECT_NE(read.statement.find("plausible"), std::string::npos) << read.statement;
+  EXPECT_NE(read.statement.find("would not alarm"), std::string::npos) << read.statement;
+  EXPECT_DOUBLE_EQ(read.p_value, reproduced.p_value);  // the test's numbers are kept
+  // Nothing on a limit, or a mismatch already: unchanged.
+  EXPECT_EQ(study::deciding_detection(reproduced, {}).statement, reproduced.statement);
+  EXPECT_FALSE(study::deciding_detection(reproduced, {}).mismatch());
+  EXPECT_EQ(study::deciding_detection(detection(true), on).statement, detection(true).statement);
+  // An untestable fit stays untestable: nothing can be read from it.
+  const auto untestable = calibrate::detect_mismatch(0.0, 2, 2);
+  EXPECT_FALSE(study::deciding_detection(untestable, on).mismatch());
+
+  // The verdict then follows the mismatch rule: reproduced becomes something else.
+  const auto v = study::decide_diagnosis(read, calibrate::DiscrepancyDiagnosis{},
+                                         judged(calibrate::Explanation::discrepancy, ""));
+  EXPECT_EQ(v.outcome, "unexplained");
+  EXPECT_NE(v.summary.find("plausible"), std::string::npos) << v.summary;
 }
 
 // A reproduced fit on the edge of the design is no calibrated value: the verdict says so

@@ -314,6 +314,31 @@ TEST(WorkflowGolden, AFitOnADesignBoundGrowsTheDesignBeforeAnyVerdict) {
   EXPECT_NEAR(mu_s, 0.9, 0.06);
 }
 
+// The same recordings with the material's plausible range stated below the truth
+// (mu_s at most 0.85, [diagnosis.plausible]): the design grows to 0.85 and no further, the
+// fit sits on that limit, and the diagnosis reads it as a mismatch, probes the candidates
+// and does not say "reproduced" (issue 19, stage 3; docs/model_discrepancy.md).
+TEST(WorkflowGolden, AFitOnAPlausibleLimitIsNotReproduced) {
+  const BoundCase c =
+      diagnose_beyond_the_design("bound-plausible", "plausible = { mu_s = [0.1, 0.85] }\n");
+  ASSERT_NE(c.diagnosis.outcome, "incomplete") << c.log;
+  EXPECT_NE(c.diagnosis.outcome, "reproduced") << c.diagnosis.summary;
+  const nlohmann::json& e = c.json.at("design_extension");
+  ASSERT_TRUE(e.at("needed").get<bool>()) << c.log;
+  for (const auto& b : e.at("bounds")) {
+    if (b.at("name") == "mu_s") {
+      EXPECT_DOUBLE_EQ(b.at("upper").get<double>(), 0.85);
+    }
+  }
+  const nlohmann::json& p = c.json.at("plausible");
+  ASSERT_EQ(p.at("fit_on_limit").size(), 1u) << p.dump(1);
+  EXPECT_NE(p.at("fit_on_limit")[0].get<std::string>().find("mu_s"), std::string::npos);
+  EXPECT_NE(c.diagnosis.summary.find("plausible upper limit 0.85"), std::string::npos)
+      << c.diagnosis.summary;
+  // The candidates were probed: a mismatch, whether the test saw it or the limit did.
+  EXPECT_NE(c.log.find("probing"), std::string::npos) << c.log;
+}
+
 // The evaluator's observables are its documented formulas, and its noise is the
 // run's seed's alone.
 TEST(AnalyticEvaluator, GivesItsClosedFormAndSeededNoise) {
