@@ -58,6 +58,26 @@ TEST(DiagnosisConfig, DefaultsAndOverridesAreRead) {
   EXPECT_FALSE(resolved_for(s, "rectangular_container")["diagnosis"]);
 }
 
+// [diagnosis.plausible]: per design parameter, the material's [lower, upper]; it must hold
+// the design's box, and a study without a design has nothing to bound.
+TEST(DiagnosisConfig, PlausibleRangesAreReadPerDesignParameter) {
+  const StudyConfig s = build(tiny_study() + "\n[diagnosis.plausible]\nmu_r = [0.0, 1.0]\n");
+  ASSERT_TRUE(s.diagnosis);
+  ASSERT_EQ(s.diagnosis->plausible.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.diagnosis->plausible.at("mu_r").first, 0.0);
+  EXPECT_DOUBLE_EQ(s.diagnosis->plausible.at("mu_r").second, 1.0);
+  EXPECT_TRUE(build(tiny_study() + "\n[diagnosis]\nalpha = 0.05\n").diagnosis->plausible.empty());
+
+  std::string without_design = tiny_study();
+  const auto from = without_design.find("[design]");
+  ASSERT_NE(from, std::string::npos);
+  const auto to = without_design.find("\n[", from + 1);
+  without_design.erase(from, to == std::string::npos ? std::string::npos : to + 1 - from);
+  const std::string m = error_of(without_design + "\n[diagnosis.plausible]\nmu_r = [0.0, 1.0]\n");
+  EXPECT_NE(m.find("diagnosis.plausible"), std::string::npos) << m;
+  EXPECT_NE(m.find("no [design]"), std::string::npos) << m;
+}
+
 TEST(DiagnosisConfig, BadInputNamesTheKey) {
   std::string m = error_of(tiny_study() + "\n[diagnosis]\ncandidates = [\"gravity\"]\n");
   EXPECT_NE(m.find("diagnosis.candidates"), std::string::npos) << m;
