@@ -559,10 +559,17 @@ void write_report(const fs::path& dir, const std::string& study_name,
   r.write(dir / "index.html");
 }
 
-// A fit "sits on" a bound within 1 % of the parameter's range: the rule of both the
-// design's extension and the caveat of a reproduced fit.
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// "a", "a and b", "a and b and c": the parameters a sentence names.
+std::string joined_with_and(const std::vector<std::string>& parts) {
+  std::string list;
+  for (const auto& p : parts) list += (list.empty() ? "" : " and ") + p;
+  return list;
+}
+
+// A fit "sits on" a bound within 1 % of the parameter's range: the rule of both the
+// design's extension and the caveat of a reproduced fit.
 bool on_lower_bound(const calibrate::ParameterBounds& b, double v) {
   return v - b.lower <= 0.01 * (b.upper - b.lower);
 }
@@ -741,8 +748,7 @@ calibrate::MismatchDetection deciding_detection(const calibrate::MismatchDetecti
     return detection;
   calibrate::MismatchDetection d = detection;
   d.verdict = calibrate::MismatchVerdict::mismatch;
-  std::string list = on_limit.front();
-  for (std::size_t i = 1; i < on_limit.size(); ++i) list += " and " + on_limit[i];
+  const std::string list = joined_with_and(on_limit);
   d.statement =
       "The base model matches the recordings only on the edge of what the material "
       "can have (" +
@@ -767,9 +773,7 @@ std::string bound_caveat(const std::vector<calibrate::ParameterBounds>& bounds,
       at.push_back(bounds[k].name + " on its upper bound " + format_number(bounds[k].upper));
   }
   if (at.empty()) return {};
-  std::string list = at.front();
-  for (std::size_t i = 1; i < at.size(); ++i) list += " and " + at[i];
-  return " But the fit sits on the edge of the design (" + list +
+  return " But the fit sits on the edge of the design (" + joined_with_and(at) +
          "): the recordings may be matched best beyond it, where no run was made, and a value "
          "on a bound is not a calibrated value. Widen that range of the design ([design] "
          "parameters) and diagnose again.";
