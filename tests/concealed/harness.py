@@ -78,7 +78,10 @@ def set_truth_set(name):
     lammps/fresh/studies/; lammps/README.md "Fresh truths").
     `lammps-stage3`: LAMMPS truths written after stage 3's method was frozen
     (lammps/truth-stage3/, their studies under lammps/stage3/studies/; lammps/README.md
-    "Stage 3")."""
+    "Stage 3").
+    `stage3`: same-engine truths written after stage 3's method was frozen, with frictions
+    and strengths of their own (truth-stage3/, their studies under stage3/studies/;
+    README.md "Stage 3 on the same engine")."""
     global TRUTH, STUDIES
     if name == "fresh":
         TRUTH = HERE / "truth-fresh"
@@ -92,6 +95,9 @@ def set_truth_set(name):
     elif name == "lammps-stage3":
         TRUTH = HERE / "lammps" / "truth-stage3"
         STUDIES = HERE / "lammps" / "stage3" / "studies"
+    elif name == "stage3":
+        TRUTH = HERE / "truth-stage3"
+        STUDIES = HERE / "stage3" / "studies"
 
 
 def series_observables(rec):
@@ -446,11 +452,12 @@ def main():
     p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
     p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
     p.add_argument("--min-identified", type=float, default=0.8)
-    p.add_argument("--truth-set", choices=["original", "fresh", "lammps", "lammps-fresh", "lammps-stage3"], default="original",
+    p.add_argument("--truth-set", choices=["original", "fresh", "stage3", "lammps", "lammps-fresh", "lammps-stage3"], default="original",
                    help="original: truth/ (the development set); fresh: truth-fresh/ (made after the method was "
                         "frozen); lammps: lammps/truth/ (recordings made in LAMMPS, the model demcal's); lammps-fresh: "
                         "lammps/truth-fresh/ (LAMMPS truths made after the cross-engine method was frozen); "
-                        "lammps-stage3: lammps/truth-stage3/ (written after stage 3 was frozen)")
+                        "lammps-stage3: lammps/truth-stage3/ (written after stage 3 was frozen); stage3: truth-stage3/ "
+                        "(same-engine truths written after stage 3 was frozen)")
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
     set_out(args.out)
