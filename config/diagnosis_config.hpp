@@ -4,7 +4,7 @@
 // Every key is optional:
 //
 //   [diagnosis]
-//   candidates = ["cohesion", "wall_friction", "air_drag", "size_spread"]
+//   candidates = ["cohesion", "grain_cohesion", "wall_friction", "air_drag", "size_spread"]
 //                                     # default: every one config/physics_candidates.hpp knows
 //   alpha = 0.01                      # significance of the goodness-of-fit test, (0, 0.5)
 //   hold_out = ["conical_pile"]       # setups whose recordings are predicted, never fitted

@@ -144,6 +144,29 @@ TEST(ContactPartParameters, MoistureIsADiagnosisCandidateAStudyAccepts) {
                    c->probe);
 }
 
+TEST(ContactPartParameters, GrainCohesionLeavesTheWallsTheirOwnSurfaceEnergy) {
+  // The two cohesion candidates differ only on the walls: "cohesion" gives them the grains'
+  // surface energy, "grain_cohesion" leaves them the study's (none here, and 1e-4 when the
+  // study states one). The probe study is what the diagnosis runs.
+  auto probed = [](const std::string& name, std::vector<std::string> overrides) {
+    const PhysicsCandidate* c = find_physics_candidate(name);
+    EXPECT_NE(c, nullptr) << name;
+    for (const auto& [k, v] : c->switches) overrides.push_back(k + "=\"" + v + "\"");
+    for (const auto& k : c->keys) overrides.push_back(k + "=" + std::to_string(c->probe));
+    return std::pair{build(kStudy, overrides), c->probe};
+  };
+  const auto [both, probe] = probed("cohesion", {});
+  EXPECT_DOUBLE_EQ(both.material.particle_particle.surface_energy_j_m2, probe);
+  EXPECT_DOUBLE_EQ(both.material.particle_wall.surface_energy_j_m2, probe);
+  const auto [grains, grain_probe] = probed("grain_cohesion", {});
+  EXPECT_DOUBLE_EQ(grains.material.particle_particle.surface_energy_j_m2, grain_probe);
+  EXPECT_DOUBLE_EQ(grains.material.particle_wall.surface_energy_j_m2, 0.0);
+  const StudyConfig stated =
+      probed("grain_cohesion", {"interaction.particle_wall.surface_energy_j_m2=1e-4"}).first;
+  EXPECT_DOUBLE_EQ(stated.material.particle_wall.surface_energy_j_m2, 1e-4);
+  EXPECT_EQ(find_physics_candidate("grain_cohesion")->off_value, 0.0);
+}
+
 TEST(Schema, ListsEveryPartWithItsKeysUnitsDefaultsAndRanges) {
   const std::string all = schema_text("");
   for (const std::string& role : dem::contact_roles())
