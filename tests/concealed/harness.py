@@ -79,6 +79,9 @@ def set_truth_set(name):
     `lammps-stage3`: LAMMPS truths written after stage 3's method was frozen
     (lammps/truth-stage3/, their studies under lammps/stage3/studies/; lammps/README.md
     "Stage 3").
+    `lammps-stage4`: LAMMPS truths written after stage 4's method was frozen
+    (lammps/truth-stage4/, their studies under lammps/stage4/studies/; lammps/README.md
+    "Stage 4").
     `stage3`: same-engine truths written after stage 3's method was frozen, with frictions
     and strengths of their own (truth-stage3/, their studies under stage3/studies/;
     README.md "Stage 3 on the same engine")."""
@@ -95,6 +98,9 @@ def set_truth_set(name):
     elif name == "lammps-stage3":
         TRUTH = HERE / "lammps" / "truth-stage3"
         STUDIES = HERE / "lammps" / "stage3" / "studies"
+    elif name == "lammps-stage4":
+        TRUTH = HERE / "lammps" / "truth-stage4"
+        STUDIES = HERE / "lammps" / "stage4" / "studies"
     elif name == "stage3":
         TRUTH = HERE / "truth-stage3"
         STUDIES = HERE / "stage3" / "studies"
@@ -140,6 +146,7 @@ def truths():
 # truth switches the effect on without giving one.
 HIDDEN_KEY = {
     "cohesion": ("interaction.particle_particle.surface_energy_j_m2", None),
+    "grain_cohesion": ("interaction.particle_particle.surface_energy_j_m2", None),
     "wall_friction": ("interaction.particle_wall.sliding_friction", None),
     "air_drag": ("air.drag_scale", 1.0),
     "size_spread": ("material.size.relative_half_width", None),
@@ -379,6 +386,7 @@ extended designs run once for all (cost of the whole test: `tests/concealed/READ
 def write_readmes(results, args):
     hidden = {
         "cohesion": "one effect switched on that the base model leaves out (its name is the folder's)",
+        "grain_cohesion": "one effect switched on that the base model leaves out (its name is the folder's)",
         "wall_friction": "one effect switched on that the base model leaves out (its name is the folder's)",
         "air_drag": "one effect switched on that the base model leaves out (its name is the folder's)",
         "size_spread": "one effect switched on that the base model leaves out (its name is the folder's)",
@@ -452,11 +460,12 @@ def main():
     p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
     p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
     p.add_argument("--min-identified", type=float, default=0.8)
-    p.add_argument("--truth-set", choices=["original", "fresh", "stage3", "lammps", "lammps-fresh", "lammps-stage3"], default="original",
+    p.add_argument("--truth-set", choices=["original", "fresh", "stage3", "lammps", "lammps-fresh", "lammps-stage3", "lammps-stage4"], default="original",
                    help="original: truth/ (the development set); fresh: truth-fresh/ (made after the method was "
                         "frozen); lammps: lammps/truth/ (recordings made in LAMMPS, the model demcal's); lammps-fresh: "
                         "lammps/truth-fresh/ (LAMMPS truths made after the cross-engine method was frozen); "
-                        "lammps-stage3: lammps/truth-stage3/ (written after stage 3 was frozen); stage3: truth-stage3/ "
+                        "lammps-stage3: lammps/truth-stage3/ (written after stage 3 was frozen); lammps-stage4: lammps/truth-stage4/ "
+                        "(written after stage 4 was frozen); stage3: truth-stage3/ "
                         "(same-engine truths written after stage 3 was frozen)")
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
