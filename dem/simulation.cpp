@@ -528,6 +528,9 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     }
   }
   for (auto& l : thread_wall_loads_) l.assign(nwalls, WallLoad{});
+  // Decided by the bed's size, not by timing: a run repeats bit for bit
+  // whatever the choice (a prefetch changes no value).
+  const bool prefetch = worth_prefetching(n, neighbors_.pair_count());
 
   team_->run([&](int m) {
     // Chunk m owns the particles [own_begin, own_end): their pairs with
@@ -572,6 +575,8 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     // added to the particles in the order they were found.
     const ParticleArrays pa{xp, vp, wp, rp, mp, imp, iip, matp};
     const ListedPairs listed{list.partner, list.shift_code, list.shift_table, list.history};
+    const PartnerForceTargets targets{force_own, torque_own, force_beyond, torque_beyond, own_end};
+    const PartnerForceTargets* const prefetch_for = prefetch ? &targets : nullptr;
     ContactBatch& batch = contact_batches_[static_cast<std::size_t>(m)];
     batch.size = 0;
     auto flush = [&] {
@@ -582,13 +587,10 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
         const auto j = static_cast<std::size_t>(batch.j[l]);
         list.history[batch.pair[l]] = batch.history(l);
         const Vec3 fi = batch.force_on_i(l);
-        const bool j_own = j < own_end;
-        Vec3* const Fj = j_own ? force_own : force_beyond;
-        Vec3* const Tj = j_own ? torque_own : torque_beyond;
         force_own[i] += fi;
-        Fj[j] -= fi;
+        *targets.force_n(j) -= fi;
         torque_own[i] += batch.torque_on_i(l);
-        Tj[j] += batch.torque_on_j(l);
+        *targets.torque_nm(j) += batch.torque_on_j(l);
         elastic += batch.energy_j[l];
       }
       contacts += static_cast<std::size_t>(batch.size);
@@ -597,7 +599,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
     if constexpr (!Kernel::kHoldsBeyondTouching) {
       PairScanCursor cursor{own_begin, own_begin < own_end ? list.first[own_begin] : 0};
       for (;;) {
-        stage_touching_pairs(list, xp, rp, own_end, cursor, batch);
+        stage_touching_pairs(list, xp, rp, own_end, cursor, batch, prefetch_for);
         if (!batch.full()) break;
         flush();
       }
@@ -620,6 +622,7 @@ void Simulation::compute_contact_forces(const Kernel& kernel, Finish& finish) {
             on = kernel.holds(coef[matp[i] * nm + matp[j]], ri * rp[j] / rsum,
                               rsum - std::sqrt(dist2));
           batch.stage(taken, static_cast<std::uint32_t>(i), p, list.touching[p] != 0);
+          if (prefetch) prefetch_for_flush(list, p, j, targets);
           list.touching[p] = on ? 1 : 0;
           taken += on ? 1 : 0;
           if (taken == ContactBatch::kCapacity) {

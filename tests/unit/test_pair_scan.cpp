@@ -92,16 +92,24 @@ std::vector<Taken> reference_scan(RandomList& l, std::size_t begin, std::size_t 
 }
 
 // The scan as the force loop drives it: batch after batch until the pairs
-// run out. Also returns the size of every batch it handed over.
-std::vector<Taken> batched_scan(RandomList& l, std::size_t begin, std::size_t end,
-                                std::vector<int>* batch_sizes) {
+// run out, with or without the prefetches. Also returns the size of every
+// batch it handed over.
+std::vector<Taken> scan_in_batches(RandomList& l, std::size_t begin, std::size_t end, bool prefetch,
+                                   std::vector<int>* batch_sizes) {
   std::vector<Taken> taken;
   ContactBatch batch;
   batch.size = 0;
   PairScanCursor cursor{begin, begin < end ? l.first[begin] : 0};
   const NeighborList::Arrays a = l.arrays();
+  // The partners' force entries the scan prefetches; with two "owners" so
+  // that both targets are used.
+  std::vector<Vec3> force(l.x.size()), torque(l.x.size()), force_b(l.x.size()),
+      torque_b(l.x.size());
+  const PartnerForceTargets targets{force.data(), torque.data(), force_b.data(), torque_b.data(),
+                                    (begin + end) / 2};
   for (;;) {
-    stage_touching_pairs(a, l.x.data(), l.r.data(), end, cursor, batch);
+    stage_touching_pairs(a, l.x.data(), l.r.data(), end, cursor, batch,
+                         prefetch ? &targets : nullptr);
     batch_sizes->push_back(batch.size);
     for (int s = 0; s < batch.size; ++s)
       taken.emplace_back(static_cast<std::uint32_t>(batch.i[s]), batch.pair[s],
@@ -111,6 +119,22 @@ std::vector<Taken> batched_scan(RandomList& l, std::size_t begin, std::size_t en
   }
   EXPECT_EQ(cursor.i, end);
   return taken;
+}
+
+// Both scans, which must agree in everything (a prefetch changes no value);
+// returns the one without prefetches.
+std::vector<Taken> batched_scan(RandomList& l, std::size_t begin, std::size_t end,
+                                std::vector<int>* batch_sizes) {
+  RandomList copy = l;
+  std::vector<int> sizes_with;
+  const auto with = scan_in_batches(copy, begin, end, true, &sizes_with);
+  const std::size_t before = batch_sizes->size();
+  const auto without = scan_in_batches(l, begin, end, false, batch_sizes);
+  EXPECT_EQ(with, without);
+  EXPECT_EQ(copy.touching, l.touching);
+  EXPECT_EQ(sizes_with,
+            std::vector<int>(batch_sizes->begin() + static_cast<long>(before), batch_sizes->end()));
+  return without;
 }
 
 TEST(PairScan, TakesTheSamePairsInTheSameOrderAsTheOnePairLoop) {
