@@ -20,7 +20,7 @@
 //   build/bench/demcal_adaptive_replay [--labs 20] [--truth 0.1,0.85] [--emulator-labs 1]
 //                                      [--offset-aor 12] [--lab-seed-base 1000]
 //                                      [--weight-batches 2] [--tempering 0.5] [--max-runs 32]
-//                                      [--space-filling 1]
+//                                      [--space-filling 1] [--confirm-parts 1]
 #include "calibrate/adaptive_design.hpp"
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/confidence_region.hpp"
@@ -107,6 +107,7 @@ int main(int argc, char** argv) {
   // The swing-damping options of AdaptiveDesignOptions (defaults: off).
   int weight_batches = 1;
   double tempering = 1.0;
+  bool confirm_parts = false;
   // A smaller run budget: what the region is when the design must stop there (diagnostic).
   int max_runs = calibrate::AdaptiveDesignOptions{}.max_runs;
   bool space_filling = false;
@@ -123,6 +124,7 @@ int main(int argc, char** argv) {
     else if (k == "--tempering") tempering = std::stod(v);
     else if (k == "--max-runs") max_runs = std::stoi(v);
     else if (k == "--space-filling") space_filling = v == "1";
+    else if (k == "--confirm-parts") confirm_parts = v == "1";
     else {
       std::cerr << "unknown option " << k << "\n";
       return 2;
@@ -148,6 +150,7 @@ int main(int argc, char** argv) {
   calibrate::AdaptiveDesignOptions options;  // the defaults, as [design] kind = "adaptive"
   options.acquisition_weight_batches = weight_batches;
   options.acquisition_tempering = tempering;
+  options.confirm_region_parts = confirm_parts;
   options.max_runs = max_runs;
   options.space_filling_batch = space_filling;
   if (std::string error; !options.Validate(&error)) {
@@ -155,8 +158,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("adaptive options: acquisition_weight_batches %d, acquisition_tempering %g, max_runs %d, "
-              "space_filling_batch %d\n",
-              weight_batches, tempering, max_runs, space_filling ? 1 : 0);
+              "space_filling_batch %d, confirm_region_parts %d\n",
+              weight_batches, tempering, max_runs, space_filling ? 1 : 0, confirm_parts ? 1 : 0);
   // The emulator: the grid's GPs (fitted against any recordings: the fit does not use them).
   const auto emulator = calibrate::calibrate_runs(bounds, recordings(30.0, 0.53), grid,
                                                   options.surrogate, options.calibration);
@@ -237,6 +240,17 @@ int main(int argc, char** argv) {
                 adaptive.runs.size(), adaptive.history.batches.size(),
                 calibrate::to_string(adaptive.history.status), ja.area, jg.area, ja.area / jg.area,
                 ja.inside, jg.inside, ja.mu_s_identified, jg.mu_s_identified);
+    if (!ja.mu_s_identified) {
+      // Why not: the 95 % region's mu_s extent reaches a bound, or the best point is
+      // rank deficient with mu_s in its weakest direction (calibration.cpp, kWeakShare).
+      const auto& r = adaptive.calibration.result;
+      const auto& e = r.region.extent.at(1);
+      const auto& m = r.minima.at(0);
+      std::printf("     mu_s not identified: 95 %% region mu_s %.3f-%.3f%s%s; best point (%.3f, %.3f)%s\n",
+                  e.lower, e.upper, e.touches_lower_bound ? ", reaches the lower bound" : "",
+                  e.touches_upper_bound ? ", reaches the upper bound" : "", m.theta(0), m.theta(1),
+                  m.rank_deficient ? ", rank deficient there" : "");
+    }
     std::printf("     scatter sd (adaptive / grid): AoR %.3f / %.3f, time %.4f / %.4f; surrogate variance / noise "
                 "(adaptive / grid) %.2f / %.2f\n",
                 adaptive.calibration.surrogates[0].scatter.sd, g.surrogates[0].scatter.sd,
