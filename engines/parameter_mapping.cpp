@@ -374,15 +374,19 @@ MappingResult<LammpsMapping> map_to_lammps(const dem::GranularMaterial& m,
     map.approximations.push_back(
         "rolling spring constant in LAMMPS, overlap-dependent in demcal: equal at delta = " +
         num(options.reference_overlap_fraction) + " R*; the limiting torque is exact");
-  // LAMMPS's sds slider caps spring + dashpot together and stores the spring
+  // LAMMPS's sds slider bounds spring + dashpot together and stores the spring
   // as -(F_crit f^ + gamma_roll v_roll) / k_roll (pair_granular.cpp and
-  // fix_wall_gran.cpp, 29Sep2021), as for its tangential force; demcal's epsd
-  // idles the dashpot at the limit. Below the limit the two are equal.
-  if (map.particle_particle.rolling || map.particle_wall.rolling)
+  // fix_wall_gran.cpp, 29Sep2021), as for its tangential force. demcal's "sds"
+  // is that slider; its epsd (Ai et al. model C, as LIGGGHTS) bounds the spring
+  // alone, so its dashpot adds to the torque past the limit in impacts: the 3D
+  // Sandglass's lower pile is about 2 deg steeper (studies/engine-crosscheck).
+  if ((map.particle_particle.rolling || map.particle_wall.rolling) && m.contact.rolling == "epsd")
     map.approximations.push_back(
-        "rolling dashpot stays on at the rolling limit in LAMMPS (sds caps spring + dashpot "
-        "together, its spring history set to -(F_crit + gamma_roll v_roll) / k_roll); demcal "
-        "idles it there");
+        "rolling slider: LAMMPS's sds bounds spring + dashpot together at mu_r R* F_n and keeps "
+        "the dashpot on there (its spring history set to -(F_crit + gamma_roll v_roll) / "
+        "k_roll); demcal epsd bounds the spring alone, so its dashpot can exceed the limit in "
+        "impacts (LAMMPS's piles come out flatter; calibrate with rolling = \"sds\" for "
+        "LAMMPS)");
   if (m.contact.rolling == "cdt")
     map.approximations.push_back(
         "demcal cdt (constant torque) run as LAMMPS sds with the same limiting torque (R_eff from "

@@ -79,12 +79,31 @@ struct ConstantDirectionalTorqueOwnOmega {
   }
 };
 
-// The spring–dashpot–slider both spring rolling parts share (Iwashita & Oda
-// 1998; Ai, Chen, Rotter & Ooi 2011, model C): a rolling spring of the given
+// The rolling dashpot's coefficient (N m s/rad): the stated fraction of the
+// critical damping of the rolling spring on the reduced moment of inertia
+// about the contact point (Ai et al. 2011, eq. 16); a wall (no rotational
+// inertia) adds nothing.
+[[gnu::always_inline]] inline double rolling_dashpot_n_m_s(const ContactKinematics& k,
+                                                           const PairCoefficients& c,
+                                                           double stiffness_nm_rad) {
+  const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
+  double inv_ir = 1.0 / ii;
+  const bool j_turns = k.inv_inertia_j_kg_m2 > 0.0;
+  const double inv_inertia_j = j_turns ? k.inv_inertia_j_kg_m2 : 1.0;
+  const double inv_mass_j = j_turns ? k.inv_mass_j_kg : 1.0;
+  const double inv_ir_j = 1.0 / (1.0 / inv_inertia_j + k.lever_j_m * k.lever_j_m / inv_mass_j);
+  inv_ir += j_turns ? inv_ir_j : 0.0;
+  return c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness_nm_rad / inv_ir);
+}
+
+// The spring–dashpot–slider of "epsd" (Iwashita & Oda 1998; Ai, Chen, Rotter &
+// Ooi 2011, model C, as LIGGGHTS's epsd): a rolling spring of the given
 // stiffness (N m/rad) on the relative rolling rotation, a dashpot at a
-// fraction of its critical damping, and a plastic limit |M| <= arm F_n, arm =
-// mu_r R*, at which the dashpot is idle. The parts differ only in the spring's
-// stiffness, so that difference is all either of them states.
+// fraction of its critical damping, and a plastic limit on the *spring*,
+// |M_spring| <= arm F_n, arm = mu_r R*, at which the dashpot is idle. Below
+// that limit the dashpot adds to the spring unbounded, so in an impact (a fast
+// spin-up) the torque may exceed arm F_n. LAMMPS's sds slider bounds spring
+// and dashpot together instead ("sds", constant_spring_rolling.hpp).
 //
 // Without branches (see rotate_into_tangent_plane in contact_state.hpp): both
 // the sliding and the sticking torque are computed and one is selected. With
@@ -99,16 +118,7 @@ struct ConstantDirectionalTorqueOwnOmega {
   const double limit = arm_m * f.friction_load_n;
   const double s2 = norm2(spring);
   const bool slides = s2 > limit * limit;
-  // Sticking: reduced moment of inertia about the contact point (Ai et al.,
-  // eq. 16); a wall (no rotational inertia) adds nothing.
-  const double ii = 1.0 / k.inv_inertia_i_kg_m2 + k.lever_i_m * k.lever_i_m / k.inv_mass_i_kg;
-  double inv_ir = 1.0 / ii;
-  const bool j_turns = k.inv_inertia_j_kg_m2 > 0.0;
-  const double inv_inertia_j = j_turns ? k.inv_inertia_j_kg_m2 : 1.0;
-  const double inv_mass_j = j_turns ? k.inv_mass_j_kg : 1.0;
-  const double inv_ir_j = 1.0 / (1.0 / inv_inertia_j + k.lever_j_m * k.lever_j_m / inv_mass_j);
-  inv_ir += j_turns ? inv_ir_j : 0.0;
-  const double damping = c.rolling_damping_ratio * 2.0 * std::sqrt(stiffness_nm_rad / inv_ir);
+  const double damping = rolling_dashpot_n_m_s(k, c, stiffness_nm_rad);
   const Vec3 sticking = spring - damping * w;
   const bool stores = stiffness_nm_rad > 0.0;
   const double energy = stores ? 0.5 * norm2(spring) / (stores ? stiffness_nm_rad : 1.0) : 0.0;

@@ -194,22 +194,28 @@ TEST(EnginesMapping, DemcalsConstantRollingSpringCarriesOverToLammpsExactly) {
       << liggghts.refusal;
 }
 
-// LAMMPS's sds slider keeps its dashpot at the rolling limit, demcal's epsd
-// idles it: a difference in how grains roll at the limit, stated in the mapping
-// whenever rolling is on (issue 17; no effect measured on the Sandglass's lower pile).
-TEST(EnginesMapping, LammpsStatesTheRollingDashpotAtTheLimit) {
-  auto says_dashpot = [](const LammpsMapping& m) {
+// LAMMPS's sds slider bounds spring + dashpot together and keeps the dashpot
+// on at the limit; demcal's epsd bounds the spring alone, so in impacts its
+// dashpot adds torque past the limit (measured: LAMMPS's lower pile of the 3D
+// Sandglass 2 deg flatter, studies/engine-crosscheck/README.md). The mapping
+// states it for epsd; demcal's sds is LAMMPS's slider, so nothing is stated
+// for it, nor without rolling, nor for cdt (whose substitution is stated).
+TEST(EnginesMapping, LammpsStatesTheRollingSliderOnlyWhereItDiffers) {
+  auto says_slider = [](const LammpsMapping& m) {
     for (const auto& a : m.approximations)
-      if (a.find("rolling dashpot stays on at the rolling limit") != std::string::npos) return true;
+      if (a.find("rolling slider: LAMMPS's sds bounds spring + dashpot together") !=
+          std::string::npos)
+        return true;
     return false;
   };
-  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material(), {}).value()));
+  EXPECT_TRUE(says_slider(map_to_lammps(peer_material(), {}).value()));
+  EXPECT_FALSE(says_slider(map_to_lammps(peer_material("sds"), {}).value()));
   MappingOptions allow;
   allow.allow_rolling_substitute = true;
-  EXPECT_TRUE(says_dashpot(map_to_lammps(peer_material("cdt"), {}, allow).value()));
+  EXPECT_FALSE(says_slider(map_to_lammps(peer_material("cdt"), {}, allow).value()));
   auto dry = peer_material();
   dry.contact.rolling = "none";
-  EXPECT_FALSE(says_dashpot(map_to_lammps(dry, {}).value()));
+  EXPECT_FALSE(says_slider(map_to_lammps(dry, {}).value()));
 }
 
 TEST(EnginesMapping, EngineNames) {

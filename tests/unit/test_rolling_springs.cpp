@@ -1,7 +1,9 @@
 // The two spring rolling parts at the level of one contact and one step:
 // "epsd"'s spring follows the normal part's stiffness (the overlap), "sds"'s is
 // the constant factor 2 E* R* sqrt(x) (mu_r R*)^2, equal to epsd's at
-// delta = x R*; both share the slider (limit mu_r R* F_n) and the dashpot.
+// delta = x R*; both have the limit mu_r R* F_n and the same dashpot, but
+// their sliders differ: epsd's bounds the spring alone (Ai et al., model C),
+// sds's bounds spring + dashpot together as LAMMPS's does.
 #include "dem/contact/constant_spring_rolling.hpp"
 #include "dem/contact/contact_law.hpp"
 #include "dem/contact/rolling_resistance.hpp"
@@ -87,7 +89,7 @@ TEST(RollingSprings, TheReferenceOverlapSetsTheStiffnessAsItsSquareRoot) {
               2.0, 1e-12);
 }
 
-TEST(RollingSprings, BothSlideAtTheLimitingTorqueAndKeepTheSpringThere) {
+TEST(RollingSprings, BothSlideAtTheLimitingTorque) {
   const double mu_r = 0.1, overlap = 0.003 * kReff;
   const auto c = pair(mu_r, 0.3, 0.005);
   const double load = 4.0 / 3.0 * kEstar * std::sqrt(kReff) * std::pow(overlap, 1.5);
@@ -98,8 +100,65 @@ TEST(RollingSprings, BothSlideAtTheLimitingTorqueAndKeepTheSpringThere) {
     const Vec3 t = constant ? first_step_torque(ConstantSpringDashpot{}, c, overlap, 1e4, &h)
                             : first_step_torque(ElasticPlasticSpringDashpot{}, c, overlap, 1e4, &h);
     EXPECT_NEAR(t.y, -limit, 1e-12 * limit) << (constant ? "sds" : "epsd");
-    EXPECT_NEAR(h.rolling_torque_nm.y, -limit, 1e-12 * limit);
   }
+}
+
+// At the limit epsd keeps its spring on the limit and idles the dashpot;
+// sds keeps the dashpot on and stores the spring so that spring + dashpot is
+// the limit (LAMMPS: xi = -(F_crit f^ + gamma_roll v_roll) / k_roll). The next
+// step's spring is then the stored one, turned with the contact.
+TEST(RollingSprings, AtTheLimitEpsdIdlesTheDashpotAndSdsStoresTheSpringLammpsWay) {
+  const double mu_r = 0.1, overlap = 0.003 * kReff, omega = 1e4;
+  const auto c = pair(mu_r, 0.3, 0.005);
+  const double load = 4.0 / 3.0 * kEstar * std::sqrt(kReff) * std::pow(overlap, 1.5);
+  const double limit = mu_r * kReff * load;
+  const auto k = rolling_about_y(omega);
+  const double dashpot =
+      rolling_dashpot_n_m_s(k, c, ConstantSpringDashpot::stiffness_nm_rad(c, kReff));
+  ASSERT_GT(dashpot, 0.0);
+
+  ContactHistory epsd;
+  first_step_torque(ElasticPlasticSpringDashpot{}, c, overlap, omega, &epsd);
+  EXPECT_NEAR(epsd.rolling_torque_nm.y, -limit, 1e-12 * limit);
+
+  ContactHistory sds;
+  first_step_torque(ConstantSpringDashpot{}, c, overlap, omega, &sds);
+  // torque = spring - dashpot w = -limit, so spring = -limit + dashpot w.
+  const double stored = -limit + dashpot * omega;
+  EXPECT_NEAR(sds.rolling_torque_nm.y, stored, 1e-12 * std::abs(stored) + 1e-12 * limit);
+  EXPECT_NEAR(sds.rolling_torque_nm.x, 0.0, 1e-30);
+  EXPECT_NEAR(sds.rolling_torque_nm.z, 0.0, 1e-30);
+}
+
+// Below the spring's limit: epsd's dashpot adds to the spring without bound,
+// sds bounds the sum. A fresh contact spun up fast (an impact) shows it: the
+// spring is still small, the dashpot alone exceeds mu_r R* F_n.
+TEST(RollingSprings, InAnImpactOnlySdsBoundsSpringPlusDashpot) {
+  // At the reference overlap the two parts have the same spring, dashpot and limit.
+  const double mu_r = 0.1, overlap = 0.005 * kReff, zeta = 0.3;
+  const auto c = pair(mu_r, zeta, 0.005);
+  const double load = 4.0 / 3.0 * kEstar * std::sqrt(kReff) * std::pow(overlap, 1.5);
+  const double limit = mu_r * kReff * load;
+  const double k_r = ConstantSpringDashpot::stiffness_nm_rad(c, kReff);
+  const double dashpot = rolling_dashpot_n_m_s(rolling_about_y(1.0), c, k_r);
+  // The spin at which the dashpot alone is twice the limit, while one step of
+  // spring (k_r dt w) stays far below it.
+  const double omega = 2.0 * limit / dashpot;
+  ASSERT_LT(k_r * kDt * omega, 0.1 * limit);
+  const double spring = -k_r * kDt * omega;
+
+  const Vec3 e = first_step_torque(ElasticPlasticSpringDashpot{}, c, overlap, omega);
+  EXPECT_NEAR(e.y, spring - dashpot * omega, 1e-9 * dashpot * omega)
+      << "epsd: spring + dashpot, unbounded below the spring's limit";
+  EXPECT_GT(std::abs(e.y), 2.0 * limit);
+  const Vec3 t = first_step_torque(ConstantSpringDashpot{}, c, overlap, omega);
+  EXPECT_NEAR(t.y, -limit, 1e-12 * limit) << "sds: the sum bounded at mu_r R* F_n";
+  // Without a dashpot the two sliders are the same.
+  const auto undamped = pair(mu_r, 0.0, 0.005);
+  EXPECT_NEAR(first_step_torque(ConstantSpringDashpot{}, undamped, overlap, omega).y, spring,
+              1e-12 * std::abs(spring));
+  EXPECT_NEAR(first_step_torque(ElasticPlasticSpringDashpot{}, undamped, overlap, omega).y, spring,
+              1e-12 * std::abs(spring));
 }
 
 TEST(RollingSprings, TheDashpotIsTheStatedFractionOfCritical) {
