@@ -48,4 +48,6 @@ void write_deck_files(const Deck& deck, const std::filesystem::path& directory) 
   for (const auto& [name, text] : deck.files) put(name, text);
 }
 
+int deck_revision(const std::string& engine) { return engine == "liggghts" ? 2 : 1; }
+
 }  // namespace demcal::engines

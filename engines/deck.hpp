@@ -43,6 +43,13 @@ struct DeckResult {
   bool ok() const { return deck.has_value(); }
 };
 
+// The revision of an engine's deck writer: raised when a change to the decks
+// changes the runs' results, and written into the run key (study/run_store.hpp)
+// when above 1, so a store never reuses a run made from an older deck.
+// LAMMPS: 1. LIGGGHTS: 1 the first; 2 (issue 17) every fix wall/gran line ends
+// with "limitForce on" (wall impacts no longer end attractive).
+int deck_revision(const std::string& engine);
+
 // Writes the script and its files into `directory` (created if missing).
 void write_deck_files(const Deck& deck, const std::filesystem::path& directory);
 

@@ -95,8 +95,11 @@
 //    beta = ln e / sqrt(ln^2 e + pi^2) (the linear-spring formula), so its
 //    coefficientRestitution = exp(-pi beta / sqrt(1 - beta^2)) of demcal's beta
 //    (equal to e for restitution_model = "linear_spring_formula"). beta >= 1 is refused.
-//    "limitForce on" keeps the normal force repulsive, as demcal does.
-//  * tangential history: demcal's (spring 8 G* a, same damping, rescaled at slip).
+//    "limitForce on" keeps the normal force repulsive, as demcal does, for
+//    pairs and (at the end of each fix wall/gran line) for walls.
+//  * tangential history: demcal's (spring 8 G* a, same damping, rescaled at slip),
+//    except that while sticking LIGGGHTS leaves spring + dashpot unbounded
+//    (demcal bounds the sum at mu_s F_n); stated as an approximation.
 //  * rolling cdt: LIGGGHTS's torque is mu_r F_n R* (a wall: the contact radius of
 //    i), demcal's mu_r F_n l_i: coefficientRollingFriction = 2 mu_r between equal
 //    spheres, mu_r at a wall. epsd: same lever R* and limit, mu_r unchanged; its
@@ -204,9 +207,12 @@ struct LiggghtsMapping {
   // "model hertz tangential history [rolling_friction X]": the words pair_style
   // and fix wall/gran share.
   std::string model_words() const;
-  // model_words() + " limitForce on" (a pair_style setting; fix wall/gran
-  // refuses it, so wall contacts keep LIGGGHTS's default there).
+  // model_words() + " limitForce on": pair_style's words.
   std::string pair_style_words() const;
+  // "limitForce on": the settings a fix wall/gran line ends with. LIGGGHTS
+  // reads a wall's model settings only after its geometry ("primitive ..." or
+  // "mesh ..."); placed before it, the next word is refused as unknown.
+  std::string wall_settings_words() const;
   nlohmann::json to_json() const;
 };
 

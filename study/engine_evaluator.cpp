@@ -129,6 +129,9 @@ std::optional<nlohmann::json> engine_run_key(const StudyConfig& study,
     throw ConfigError(engine->where() + ".launch: \"" + engine->launch + "\" does not start " +
                       engine->kind + ": its log begins \"" + version + "\"");
   nlohmann::json key{{"kind", engine->kind}, {"version", version}};
+  // Absent at revision 1, so keys of runs from unchanged decks stay as they were.
+  if (const int revision = engines::deck_revision(engine->kind); revision > 1)
+    key["deck_revision"] = revision;
   // A substitution changes the deck, so it is in the key; absent when off (keys unchanged).
   if (engine->allow_rolling_substitute) key["allow_rolling_substitute"] = true;
   if (engine->allow_dry_walls) key["allow_dry_walls"] = true;

@@ -13,9 +13,10 @@
 //               [apparatus.<name>] table, each default written in), without
 //               [study] (name, seed, threads), [output] and [design],
 //     "seed": the run's seed, "threads": the run's thread count,
-//     "engine": {"kind", "version"} only when [engine] names another engine
-//               than demcal's (study/engine_evaluator.hpp); [engine] itself is
-//               not in "inputs" }
+//     "engine": {"kind", "version"[, "deck_revision"]} only when [engine]
+//               names another engine than demcal's (study/engine_evaluator.hpp;
+//               deck_revision when above 1, engines/deck.hpp); [engine] itself
+//               is not in "inputs" }
 // written canonically: object keys sorted, no whitespace, a floating-point
 // number with an integral value below 2^53 written as that integer (so 1 and
 // 1.0 in a TOML file hash alike), other numbers in the shortest text that

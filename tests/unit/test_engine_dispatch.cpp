@@ -56,6 +56,8 @@ TEST(EngineDispatch, AFakeEngineRunsTheDesignIntoTheStoreAndDemcalMeasuresIt) {
     EXPECT_EQ(run.key.key["engine"]["version"],
               "LIGGGHTS (Version fake-engine 1.0 for demcal's tests)");
     EXPECT_FALSE(run.key.key["inputs"].contains("engine")) << "the launch line is not in the key";
+    // Runs made from an older deck writer are not reused (engines/deck.hpp).
+    EXPECT_EQ(run.key.key["engine"]["deck_revision"], 2);
   }
   const RunStore store(study.parent_path() / "out" / "runs");
   DesignRunOptions options;

@@ -8,6 +8,9 @@
 #include "tests/support/golden.hpp"
 
 #include <gtest/gtest.h>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace demcal::engines {
 namespace {
@@ -100,6 +103,44 @@ TEST(EnginesDecks, LiggghtsGoldens) {
   ASSERT_EQ(glass.deck->files.size(), 5u);  // two chamber walls, the shut plate, two plate halves
   for (const auto& [name, text] : glass.deck->files)
     expect_golden(text, "engines/liggghts_sandglass_slice_" + name);
+}
+
+// LIGGGHTS's fix wall/gran keeps an attractive normal force at the end of a
+// wall impact unless its line ends with "limitForce on" (read only after the
+// geometry). With it open, the rolling limit |F_n| mu_r R stays open too and a
+// grain leaves the floor spinning up to 30 % slower than on demcal's wall
+// (bench/logs/2026-12-07_lammps-pile-gap/impact/). Every wall, primitive or
+// mesh, of every apparatus must carry it.
+TEST(EnginesDecks, EveryLiggghtsWallKeepsTheNormalForceRepulsive) {
+  auto walls_of = [](const std::string& script) {
+    std::vector<std::string> lines;
+    std::istringstream in(script);
+    for (std::string line; std::getline(in, line);)
+      if (line.find("wall/gran") != std::string::npos && line.rfind("fix", 0) == 0)
+        lines.push_back(line);
+    return lines;
+  };
+  const auto pile = write_liggghts_deck(small_pile());
+  const auto glass =
+      write_liggghts_deck(testing::small_sandglass_slice(6.0), peer_material(), dem::RunProtocol{});
+  ASSERT_TRUE(pile.ok()) << pile.refusal;
+  ASSERT_TRUE(glass.ok()) << glass.refusal;
+  bool primitive = false, mesh = false;
+  for (const auto* deck : {&*pile.deck, &*glass.deck}) {
+    const auto lines = walls_of(deck->script);
+    EXPECT_FALSE(lines.empty());
+    for (const auto& line : lines) {
+      primitive = primitive || line.find(" primitive ") != std::string::npos;
+      mesh = mesh || line.find(" mesh n_meshes ") != std::string::npos;
+      const std::string tail = " limitForce on";
+      ASSERT_GE(line.size(), tail.size());
+      EXPECT_EQ(line.substr(line.size() - tail.size()), tail) << line;
+    }
+  }
+  EXPECT_TRUE(primitive);
+  EXPECT_TRUE(mesh);
+  EXPECT_EQ(engines::deck_revision("liggghts"), 2);
+  EXPECT_EQ(engines::deck_revision("lammps"), 1);
 }
 
 TEST(EnginesDecks, RefusalsNameWhatIsMissing) {

@@ -194,6 +194,25 @@ TEST(EnginesMapping, DemcalsConstantRollingSpringCarriesOverToLammpsExactly) {
       << liggghts.refusal;
 }
 
+// LIGGGHTS leaves the tangential spring + dashpot unbounded while sticking;
+// demcal bounds the sum at mu_s F_n. A measured difference (a sliding impact's
+// spin), so every LIGGGHTS mapping states it, and none states that walls lack
+// limitForce any more (the decks set it there too).
+TEST(EnginesMapping, LiggghtsStatesTheUnboundedTangentialDashpotAndNoWallForceCaveat) {
+  for (const std::string rolling : {"epsd", "cdt"}) {
+    const auto m = map_to_liggghts(peer_material(rolling), {});
+    ASSERT_TRUE(m.ok()) << m.refusal;
+    bool dashpot = false;
+    for (const auto& a : m.value().approximations) {
+      dashpot |= a.find("tangential dashpot adds to the spring without the Coulomb bound") !=
+                 std::string::npos;
+      EXPECT_EQ(a.find("limitForce"), std::string::npos) << a;
+    }
+    EXPECT_TRUE(dashpot) << rolling;
+    EXPECT_EQ(m.value().wall_settings_words(), "limitForce on");
+  }
+}
+
 // LAMMPS's sds slider bounds spring + dashpot together and keeps the dashpot
 // on at the limit; demcal's epsd bounds the spring alone, so in impacts its
 // dashpot adds torque past the limit (measured: LAMMPS's lower pile of the 3D
