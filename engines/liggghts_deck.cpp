@@ -156,7 +156,7 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     << "# walls\n";
   for (const auto& p : l.planes)
     s << "fix             wall_" << p.name << " all wall/gran " << model << " primitive type 2 "
-      << kAxis[p.axis] << "plane " << n(p.position_m) << " " << m.wall_settings_words() << "\n";
+      << kAxis[p.axis] << "plane " << n(p.position_m) << " " << m.settings_words() << "\n";
   // Curved walls as polygons whose facets stand within 2 % of the smallest
   // diameter of the true surface.
   double d_min = d_max;
@@ -177,7 +177,7 @@ DeckResult write_liggghts_deck(const ApparatusLayout& l, const DeckOptions& o) {
     s << "fix             " << name << " all wall/gran " << model << " mesh n_meshes "
       << names.size() << " meshes";
     for (const auto& mesh_name : names) s << " mesh_" << mesh_name;
-    s << " " << m.wall_settings_words() << "\n";
+    s << " " << m.settings_words() << "\n";
   };
   // Standing for the whole run: blocks, hopper plates, shells (grains inside
   // or out: a mesh is met from either side) and discs.

@@ -178,9 +178,9 @@ CardResult liggghts_card(const MaterialCardInput& in, const MappingOptions& opt)
   s << "pair_style      gran " << m.pair_style_words() << "\n"
     << "pair_coeff      * *\n"
     << "# walls: fix ID all wall/gran " << m.model_words() << " primitive type 2 <args> "
-    << m.wall_settings_words() << "\n"
+    << m.settings_words() << "\n"
     << "#     or fix ID all wall/gran " << m.model_words() << " mesh n_meshes <n> meshes <IDs> "
-    << m.wall_settings_words() << "\n";
+    << m.settings_words() << "\n";
   return {s.str(), ""};
 }
 

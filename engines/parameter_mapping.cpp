@@ -210,10 +210,10 @@ std::string LiggghtsMapping::model_words() const {
 }
 
 std::string LiggghtsMapping::pair_style_words() const {
-  return model_words() + " " + wall_settings_words();
+  return model_words() + " " + settings_words();
 }
 
-std::string LiggghtsMapping::wall_settings_words() const { return "limitForce on"; }
+std::string LiggghtsMapping::settings_words() const { return "limitForce on"; }
 
 nlohmann::json LiggghtsMapping::to_json() const {
   return {{"engine", "liggghts"},

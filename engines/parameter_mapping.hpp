@@ -207,12 +207,13 @@ struct LiggghtsMapping {
   // "model hertz tangential history [rolling_friction X]": the words pair_style
   // and fix wall/gran share.
   std::string model_words() const;
-  // model_words() + " limitForce on": pair_style's words.
+  // "limitForce on": the model settings of pair_style and of every fix
+  // wall/gran line. A wall line must end with them: LIGGGHTS reads a wall's
+  // settings only after its geometry ("primitive ..." or "mesh ..."); placed
+  // before it, the next word is refused as unknown.
+  std::string settings_words() const;
+  // model_words() + " " + settings_words(): pair_style's words.
   std::string pair_style_words() const;
-  // "limitForce on": the settings a fix wall/gran line ends with. LIGGGHTS
-  // reads a wall's model settings only after its geometry ("primitive ..." or
-  // "mesh ..."); placed before it, the next word is refused as unknown.
-  std::string wall_settings_words() const;
   nlohmann::json to_json() const;
 };
 

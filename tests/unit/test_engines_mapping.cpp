@@ -209,7 +209,7 @@ TEST(EnginesMapping, LiggghtsStatesTheUnboundedTangentialDashpotAndNoWallForceCa
       EXPECT_EQ(a.find("limitForce"), std::string::npos) << a;
     }
     EXPECT_TRUE(dashpot) << rolling;
-    EXPECT_EQ(m.value().wall_settings_words(), "limitForce on");
+    EXPECT_EQ(m.value().settings_words(), "limitForce on");
   }
 }
 
