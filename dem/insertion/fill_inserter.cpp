@@ -4,6 +4,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace demcal::dem {
 namespace {
@@ -44,8 +45,8 @@ class FillInserter final : public Inserter {
   const SizeDistribution& sizes() const override { return *sizes_; }
   const Region& region() const override { return *region_; }
   std::string describe() const override {
-    return "fill (" + o_.method + ") " + region_->describe() + " with " + describe_amount() +
-           ", " + sizes_->describe();
+    return "fill (" + o_.method + ") " + region_->describe() + " with " + describe_amount() + ", " +
+           sizes_->describe();
   }
 
  private:
@@ -92,8 +93,8 @@ class FillInserter final : public Inserter {
       const double r = 0.5 * sizes_->sample_diameter_m(ctx.rng());
       const double slack = std::max(0.0, 0.5 * (spacing - 2.0 * r) - 1e-12);
       const double j = std::min(jitter + 0.5 * (d_max - 2.0 * r), slack);
-      const Vec3 c = site + Vec3{ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j),
-                                 ctx.rng().uniform(-j, j)};
+      const Vec3 c =
+          site + Vec3{ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j), ctx.rng().uniform(-j, j)};
       // The region may be round (a cylinder): keep only sites inside it.
       if (region_->contains(c, r) && ctx.is_free(c, r)) place(ctx, c, r);
       return true;
@@ -110,6 +111,9 @@ class FillInserter final : public Inserter {
 
 }  // namespace
 
+// 10^7 sites along one axis: 10 km of 1 mm grains.
+constexpr double kMaxLatticeSitesPerAxis = 1e7;
+
 void for_each_lattice_site(const Region& region, double max_diameter_m, double lattice_gap,
                            const Domain& domain, const std::function<bool(const Vec3&)>& visit) {
   const double spacing = max_diameter_m * (1.0 + lattice_gap);
@@ -121,9 +125,20 @@ void for_each_lattice_site(const Region& region, double max_diameter_m, double l
     // The 1e-6 keeps a length of exactly n spacings (4 sites in a 5 d slab at
     // 1.25 d) from losing a site to rounding.
     const double extent = hi[k] - lo[k];
-    n[k] = static_cast<int>(std::floor(extent / spacing + 1e-6));
+    double sites = std::floor(extent / spacing + 1e-6);
     if (domain.periodic[k] && std::abs(extent - len[k]) < 1e-12 * len[k])
-      n[k] = static_cast<int>(std::floor(len[k] / spacing + 1e-6));
+      sites = std::floor(len[k] / spacing + 1e-6);
+    // A count past any real fill (a length or size off by orders of magnitude)
+    // is refused before it is turned into an int it may not fit.
+    if (!(sites <= kMaxLatticeSitesPerAxis)) {
+      std::ostringstream m;
+      m << "the fill region is " << extent << " m across, " << sites << " lattice spacings of "
+        << spacing << " m (grains of " << max_diameter_m << " m), more than "
+        << kMaxLatticeSitesPerAxis
+        << " along one axis: check the apparatus' lengths and the grain size";
+      throw std::invalid_argument(m.str());
+    }
+    n[k] = static_cast<int>(sites);
   }
   // Bottom up, so a partial fill is a settled-looking stack of layers.
   for (int iz = 0; iz < n[2]; ++iz)

@@ -221,6 +221,14 @@ TEST(StudyConfigTest, MissingDimensionIsAnError) {
   expect_error(thin, {"apparatus.rectangular_container.thickness_m", "thickness_diameters"});
 }
 
+// Found by the study_toml fuzzer: a slice 4.8e57 diameters thick once overflowed
+// the fill lattice's site count (undefined behaviour); it must be a ConfigError.
+TEST(StudyConfigTest, AnAbsurdlyLargeFillRegionIsAnErrorNotAnOverflow) {
+  const std::string text = replace(kStudy, "slice_thickness_diameters = 4.2",
+                                   "slice_thickness_diameters = 4.8e57");
+  expect_error(text, {"apparatus.sandglass", "lattice spacings", "check the apparatus' lengths"});
+}
+
 TEST(StudyConfigTest, OutOfRangeValueIsAnError) {
   const std::string text =
       replace(kStudy, "orifice_diameter_m = 0.02", "orifice_diameter_m = -0.01");
