@@ -23,6 +23,7 @@ std::optional<DiagnosisConfig> read_diagnosis(
   c.leading = static_cast<int>(t.integer_or("leading", 2, 1, 10));
   c.extended_points = static_cast<int>(t.integer_or("extended_points", 16, 4, 10000));
   c.design_extensions = static_cast<int>(t.integer_or("design_extensions", 2, 0, 10));
+  c.candidate_refinements = static_cast<int>(t.integer_or("candidate_refinements", 0, 0, 5));
   c.probe_grid = static_cast<int>(t.integer_or("probe_grid", 200, 2, 100000));
   // One evidence margin decides both whether a candidate beats the base model and whether it
   // beats the generic discrepancy; the Bayes-factor key it replaced set only the first.

@@ -16,6 +16,12 @@
 //                                     #   said, reproduced or not, 0..10 (0: never): each round
 //                                     #   runs when the base fit sits on a design bound or the
 //                                     #   surrogates there are less sure than the DEM scatters
+//   candidate_refinements = 0         # rounds a leading candidate's extended design may be
+//                                     #   densified about the candidate's own fit, 0..5 (0:
+//                                     #   never): each runs when a fitted target's surrogate is
+//                                     #   less sure there than one DEM run scatters. Off by
+//                                     #   default: measured and not adopted (issue 19, stage 5,
+//                                     #   tests/concealed/stage5/README.md)
 //   required_log_bayes_factor = 3.0   # ln B a candidate must reach over the base model AND
 //                                     #   over a generic model discrepancy to be named, [0, 50]
 //                                     #   (3 = a Bayes factor of 20, "strong"); below it the
@@ -58,6 +64,7 @@ struct DiagnosisConfig {
   int leading = 2;
   int extended_points = 16;
   int design_extensions = 2;
+  int candidate_refinements = 0;
   double required_log_bayes_factor = 3.0;
   int probe_grid = 200;
   std::map<std::string, CandidateRange> ranges;  // per candidate, what the study overrides

@@ -26,6 +26,10 @@
 //      their parameter (Latin hypercube in (parameters, candidate)), which,
 //      with the base design at the candidate's "off" value, fits surrogates
 //      with the candidate's parameter as one more input;
+//      With [diagnosis] candidate_refinements > 0 (off by default: measured and not
+//      adopted, tests/concealed/stage5/), a leading candidate whose surrogates are less
+//      sure at its own fit than one DEM run scatters gets its design densified about that
+//      fit (candidate_refinement below) and its surrogates refitted on all its runs;
 //   5. the comparison by evidence, then against a generic model discrepancy
 //      (calibrate/model_discrepancy.hpp): a physics is named only when it beats
 //      it by the margin (decide_diagnosis below), else the report says first that
@@ -130,6 +134,21 @@ DesignExtension design_extension(const std::vector<calibrate::ParameterBounds>& 
                                  const std::vector<double>& single_run_scatter,
                                  const std::vector<bool>& fitted, int points,
                                  const std::vector<calibrate::ParameterBounds>& plausible = {});
+
+// Whether a leading candidate's extended design must be densified about the candidate's own
+// fit before it is judged (issue 19, stage 5; tests/concealed/stage5/): the rule
+// design_extension applies to the base fit, a fitted target's surrogate less sure at the fit
+// than one DEM run scatters, applied to the candidate. `bounds` and `fit` hold the base
+// parameters and then the candidate's; `targets` are the candidate's extended targets (models
+// of every parameter), one per entry of `single_run_scatter` and `fitted`. No bound moves (the
+// candidate's range is the study's); `design_box` is a quarter of each range either side of
+// the fit, inside `bounds`. Throws std::invalid_argument on sizes, or on a surrogate that does
+// not take every parameter.
+DesignExtension candidate_refinement(const std::vector<calibrate::ParameterBounds>& bounds,
+                                     const Eigen::VectorXd& fit,
+                                     const std::vector<calibrate::Target>& targets,
+                                     const std::vector<double>& single_run_scatter,
+                                     const std::vector<bool>& fitted, int points);
 
 // The parameters whose fit `theta` sits on a bound of the design (the 1 % rule above) that
 // is a finite limit of `plausible` (as for design_extension): each as "mu_r = 0.5, on its

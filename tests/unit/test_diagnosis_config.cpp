@@ -42,16 +42,22 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(DiagnosisConfig, DefaultsAndOverridesAreRead) {
-  const StudyConfig s = build(tiny_study() + "\n[diagnosis]\nalpha = 0.05\nleading = 1\n"
-                                             "[diagnosis.cohesion]\nupper = 0.01\nprobe = 0.004\n");
+  const StudyConfig s = build(tiny_study() +
+                              "\n[diagnosis]\nalpha = 0.05\nleading = 1\n"
+                              "[diagnosis.cohesion]\nupper = 0.01\nprobe = 0.004\n");
   ASSERT_TRUE(s.diagnosis);
   EXPECT_EQ(s.diagnosis->candidates, physics_candidate_names());
   EXPECT_DOUBLE_EQ(s.diagnosis->alpha, 0.05);
   EXPECT_EQ(s.diagnosis->leading, 1);
   EXPECT_EQ(s.diagnosis->probe_grid, 200);
   EXPECT_EQ(s.diagnosis->design_extensions, 2);
-  EXPECT_EQ(build(tiny_study() + "\n[diagnosis]\ndesign_extensions = 0\n").diagnosis->design_extensions,
-            0);
+  EXPECT_EQ(
+      build(tiny_study() + "\n[diagnosis]\ndesign_extensions = 0\n").diagnosis->design_extensions,
+      0);
+  EXPECT_EQ(s.diagnosis->candidate_refinements, 0);
+  EXPECT_EQ(build(tiny_study() + "\n[diagnosis]\ncandidate_refinements = 2\n")
+                .diagnosis->candidate_refinements,
+            2);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").upper, 0.01);
   EXPECT_DOUBLE_EQ(*s.diagnosis->ranges.at("cohesion").probe, 0.004);
   // [diagnosis] does not enter a run's inputs (so not its hash).
@@ -96,6 +102,10 @@ TEST(DiagnosisConfig, BadInputNamesTheKey) {
   EXPECT_NE(m.find("diagnosis.design_extensions"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis]\ndesign_extensions = 1.5\n");
   EXPECT_NE(m.find("diagnosis.design_extensions"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\ncandidate_refinements = 6\n");
+  EXPECT_NE(m.find("diagnosis.candidate_refinements"), std::string::npos) << m;
+  m = error_of(tiny_study() + "\n[diagnosis]\ncandidate_refinements = -1\n");
+  EXPECT_NE(m.find("diagnosis.candidate_refinements"), std::string::npos) << m;
   m = error_of(tiny_study() + "\n[diagnosis]\ncolour = 1\n");
   EXPECT_NE(m.find("diagnosis.colour: unknown key"), std::string::npos) << m;
 }
@@ -103,10 +113,12 @@ TEST(DiagnosisConfig, BadInputNamesTheKey) {
 TEST(PhysicsCandidates, EverySwitchAndKeyIsAcceptedByAStudy) {
   // The size spread needs the mean form of the size distribution.
   std::string text = tiny_study();
-  const std::string minmax = "size = { distribution = \"uniform\", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 }";
+  const std::string minmax =
+      "size = { distribution = \"uniform\", min_diameter_m = 3.0e-4, max_diameter_m = 6.0e-4 }";
   ASSERT_NE(text.find(minmax), std::string::npos);
   text.replace(text.find(minmax), minmax.size(),
-               "size = { distribution = \"uniform\", mean_diameter_m = 4.5e-4, relative_half_width = 0.333 }");
+               "size = { distribution = \"uniform\", mean_diameter_m = 4.5e-4, relative_half_width "
+               "= 0.333 }");
   for (const auto& c : physics_candidates()) {
     SCOPED_TRACE(c.name);
     std::vector<std::string> overrides;
@@ -150,8 +162,10 @@ TEST(PhysicsCandidates, AirDragIsOneWhoseDerivedStudyBuildsWithoutAnAirTable) {
     set_config_value(doc, key, toml::value<double>(*c->off_value), "diagnosis air_drag");
   std::ostringstream text;
   text << toml::toml_formatter(doc.table) << "\n\n[design]\nkind = \"list\"\nreplicates = 1\n"
-       << "values = [[0.25, " << shortest_decimal(c->probe) << "]]\nparameters = { mu_r = { lower = 0.1, "
-       << "upper = 0.4 }, " << toml_key_text(c->keys.front()) << " = { lower = " << shortest_decimal(c->lower)
+       << "values = [[0.25, " << shortest_decimal(c->probe)
+       << "]]\nparameters = { mu_r = { lower = 0.1, "
+       << "upper = 0.4 }, " << toml_key_text(c->keys.front())
+       << " = { lower = " << shortest_decimal(c->lower)
        << ", upper = " << shortest_decimal(c->upper) << " } }\n";
   const StudyConfig derived = build(text.str());
   ASSERT_TRUE(derived.material.air_drag.has_value()) << text.str();

@@ -180,8 +180,8 @@ TEST(DiagnosisBaseFit, LongerDischargeTimesAreDetected) {
     const World w = draw(seed, 0.2);
     const study::BaseFitTest t =
         study::test_base_fit(kBounds, w.targets, w.replicates, w.repeats, w.fitted, 0.05, quick());
-    EXPECT_TRUE(t.correlated.detection.mismatch()) << "seed " << seed << ": "
-                                                   << t.correlated.detection.statement;
+    EXPECT_TRUE(t.correlated.detection.mismatch())
+        << "seed " << seed << ": " << t.correlated.detection.statement;
   }
 }
 
@@ -216,14 +216,14 @@ TEST(DiagnosisVerdict, APhysicsIsNamedOnlyWhenTheJudgementNamesIt) {
   f.phi_lower = 3.9e-4;
   f.phi_upper = 4.7e-4;
   d.fits = {f};
-  const auto named = study::decide_diagnosis(
-      detection(true), d, judged(calibrate::Explanation::physics, "cohesion"));
+  const auto named = study::decide_diagnosis(detection(true), d,
+                                             judged(calibrate::Explanation::physics, "cohesion"));
   EXPECT_EQ(named.outcome, "explained");
   EXPECT_EQ(named.chosen, "cohesion");
   EXPECT_NE(named.summary.find("surface_energy"), std::string::npos);
 
-  const auto pattern = study::decide_diagnosis(
-      detection(true), d, judged(calibrate::Explanation::discrepancy, ""));
+  const auto pattern =
+      study::decide_diagnosis(detection(true), d, judged(calibrate::Explanation::discrepancy, ""));
   EXPECT_EQ(pattern.outcome, "unexplained");
   EXPECT_EQ(pattern.explanation, "discrepancy");
   EXPECT_TRUE(pattern.chosen.empty());
@@ -290,6 +290,103 @@ TEST(DiagnosisDesignExtension, AFitOnABoundOrUnsureSurrogatesExtendTheDesign) {
   EXPECT_FALSE(
       study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {0.02}, {true}, 16).needed);
   EXPECT_THROW(study::design_extension(b, Eigen::Vector2d(0.3, 0.5), sure, {}, {true}, 16),
+               std::invalid_argument);
+}
+
+// (d') a candidate's design is refined about the candidate's own fit (issue 19, stage 5) when a
+//      fitted target's surrogate is less sure there than one DEM run scatters: the points go
+//      a quarter of each range either side of the fit, the candidate's range included, and
+//      no bound moves, even for a fit on one (the candidate's range is the study's).
+namespace {
+// A surrogate of (mu_r, mu_s, phi) that saw runs near `seen` only: its variance grows with
+// the squared distance from there, as a Gaussian process's does away from its runs.
+class SeenNear final : public SurrogateModel {
+ public:
+  SeenNear(Eigen::Vector3d seen, double variance_per_unit2) : seen_(seen), v_(variance_per_unit2) {}
+  std::string kind() const override { return "analytic"; }
+  std::string description() const override { return "sure near one point"; }
+  std::size_t input_dimension() const override { return 3; }
+  const std::vector<std::string>& input_names() const override { return names_; }
+  Prediction predict(const Eigen::MatrixXd& x) const override {
+    Eigen::VectorXd var(x.rows());
+    for (Eigen::Index i = 0; i < x.rows(); ++i)
+      var(i) = v_ * (x.row(i).transpose() - seen_).squaredNorm();
+    return {predict_mean(x), var};
+  }
+  Eigen::VectorXd predict_mean(const Eigen::MatrixXd& x) const override {
+    return x.rowwise().sum();
+  }
+  Eigen::MatrixXd gradient(const Eigen::MatrixXd& x) const override {
+    return Eigen::MatrixXd::Ones(x.rows(), 3);
+  }
+  LeaveOneOut leave_one_out() const override { return {}; }
+
+ private:
+  Eigen::Vector3d seen_;
+  double v_;
+  std::vector<std::string> names_{"mu_r", "mu_s", "surface_energy_j_m2"};
+};
+}  // namespace
+
+TEST(DiagnosisCandidateRefinement, AnUnsureCandidateIsDensifiedAboutItsOwnFit) {
+  const std::vector<calibrate::ParameterBounds> b = {
+      {"mu_r", 0.0, 0.6}, {"mu_s", 0.2, 1.0}, {"surface_energy_j_m2", 0.0, 8e-4}};
+  calibrate::Target time;
+  time.setup = "sandglass";
+  time.observable = "discharge_time_s";
+  // sd 0.1 at a distance of 0.1 from where the runs were; one DEM run scatters 0.02.
+  time.model = std::make_shared<SeenNear>(Eigen::Vector3d(0.3, 0.6, 4e-4), 1.0);
+  calibrate::Target aor = time;
+  aor.observable = "angle_of_repose_deg";
+  const std::vector<calibrate::Target> targets = {time, aor};
+
+  // At the runs: sure, nothing to do.
+  auto r = study::candidate_refinement(b, Eigen::Vector3d(0.3, 0.6, 4e-4), targets, {0.02, 1.0},
+                                       {true, true}, 16);
+  EXPECT_FALSE(r.needed);
+  EXPECT_TRUE(r.reasons.empty());
+
+  // At a fit on the corner (0.5, 1.0) away from the runs: the time surrogate (sd 0.45 against
+  // 0.02) is unsure, the AoR one (against 1.0) is not; the box is about the fit, clipped.
+  r = study::candidate_refinement(b, Eigen::Vector3d(0.5, 1.0, 7e-4), targets, {0.02, 1.0},
+                                  {true, true}, 16);
+  EXPECT_TRUE(r.needed);
+  EXPECT_FALSE(r.moved);
+  EXPECT_EQ(r.points, 16);
+  ASSERT_EQ(r.reasons.size(), 1u);
+  EXPECT_NE(r.reasons[0].find("sandglass discharge_time_s"), std::string::npos) << r.reasons[0];
+  ASSERT_EQ(r.design_box.size(), 3u);
+  EXPECT_NEAR(r.design_box[0].lower, 0.35, 1e-12);
+  EXPECT_NEAR(r.design_box[0].upper, 0.6, 1e-12);
+  EXPECT_NEAR(r.design_box[1].lower, 0.8, 1e-12);
+  EXPECT_NEAR(r.design_box[1].upper, 1.0, 1e-12);  // on its bound: the box stops there
+  EXPECT_NEAR(r.design_box[2].lower, 5e-4, 1e-15);
+  EXPECT_NEAR(r.design_box[2].upper, 8e-4, 1e-15);
+  for (std::size_t k = 0; k < b.size(); ++k) {  // no bound moves
+    EXPECT_EQ(r.bounds[k].lower, b[k].lower);
+    EXPECT_EQ(r.bounds[k].upper, b[k].upper);
+  }
+  EXPECT_EQ(r.centre, (std::vector<double>{0.5, 1.0, 7e-4}));
+
+  // A held-out target does not count; nor does one without a known scatter.
+  EXPECT_FALSE(study::candidate_refinement(b, Eigen::Vector3d(0.5, 1.0, 7e-4), targets, {0.02, 1.0},
+                                           {false, true}, 16)
+                   .needed);
+  EXPECT_FALSE(study::candidate_refinement(b, Eigen::Vector3d(0.5, 1.0, 7e-4), targets,
+                                           {std::nan(""), 1.0}, {true, true}, 16)
+                   .needed);
+
+  // Sizes, and a surrogate of the base parameters only, are refused.
+  EXPECT_THROW(study::candidate_refinement(b, Eigen::Vector2d(0.5, 1.0), targets, {0.02, 1.0},
+                                           {true, true}, 16),
+               std::invalid_argument);
+  EXPECT_THROW(study::candidate_refinement(b, Eigen::Vector3d(0.5, 1.0, 7e-4), targets, {0.02},
+                                           {true, true}, 16),
+               std::invalid_argument);
+  calibrate::Target base_only = time;
+  base_only.model = std::make_shared<Linear>(1.0, 0.5, 2.0, 0.0);
+  EXPECT_THROW(study::candidate_refinement(b, Eigen::Vector3d(0.5, 1.0, 7e-4), {base_only}, {0.02},
+                                           {true}, 16),
                std::invalid_argument);
 }
 

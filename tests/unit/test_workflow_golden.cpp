@@ -251,9 +251,15 @@ struct BoundCase {
   std::string log;
 };
 
-BoundCase diagnose_beyond_the_design(const std::string& name, const std::string& diagnosis_keys) {
+BoundCase diagnose_beyond_the_design(const std::string& name, const std::string& diagnosis_keys,
+                                     const std::string& extended_points = "8",
+                                     const study::AnalyticEvaluatorOptions& noise = {}) {
   const fs::path dir = testing::fresh_dir("workflow", name);
   std::string study = testing::slurp(kStudyDir / "study.toml");
+  const auto points = study.find("extended_points = 8\n");
+  EXPECT_NE(points, std::string::npos);
+  study.replace(points, std::string("extended_points = 8").size(),
+                "extended_points = " + extended_points);
   const auto at = study.find("[diagnosis]\n");
   EXPECT_NE(at, std::string::npos);
   study.insert(at + std::string("[diagnosis]\n").size(), diagnosis_keys);
@@ -269,7 +275,7 @@ BoundCase diagnose_beyond_the_design(const std::string& name, const std::string&
     recordings += setup + ",bulk_density_kg_m3," + std::to_string(bulk) + ",20.0,kg/m3,3\n";
   }
   testing::spit(dir / "recordings.csv", recordings);
-  const study::AnalyticEvaluator evaluator;
+  const study::AnalyticEvaluator evaluator(noise);
   std::ostringstream console, log;
   cli::DiagnoseOptions d;
   d.study = dir / "study.toml";
@@ -337,6 +343,55 @@ TEST(WorkflowGolden, AFitOnAPlausibleLimitIsNotReproduced) {
       << c.diagnosis.summary;
   // The candidates were probed: a mismatch, whether the test saw it or the limit did.
   EXPECT_NE(c.log.find("probing"), std::string::npos) << c.log;
+}
+
+// The same case with `candidate_refinements = 1` (issue 19, stage 5; off by default): each
+// refinement the diagnosis makes is one of a candidate it extended, says why (a surrogate less
+// sure at the candidate's fit than one DEM run), and puts its points about that fit, inside
+// the candidate's box; the default makes none.
+TEST(WorkflowGolden, ACandidateRefinementIsAboutTheCandidatesOwnFit) {
+  // A hundredth of the evaluator's noise: one run scatters so little that a candidate's
+  // surrogate built on 4 extended points is less sure at its fit than that.
+  study::AnalyticEvaluatorOptions quiet;
+  quiet.aor_noise_deg = 0.004;
+  quiet.bulk_density_relative_noise = 3e-5;
+  quiet.discharge_relative_noise = 1e-4;
+  const BoundCase off =
+      diagnose_beyond_the_design("refine-off", "plausible = { mu_s = [0.1, 0.85] }\n", "4", quiet);
+  ASSERT_NE(off.diagnosis.outcome, "incomplete") << off.log;
+  EXPECT_EQ(off.json.at("candidate_refinement").at("rounds_allowed").get<int>(), 0);
+  EXPECT_TRUE(off.json.at("candidate_refinement").at("rounds").empty());
+
+  const BoundCase on = diagnose_beyond_the_design(
+      "refine-on", "plausible = { mu_s = [0.1, 0.85] }\ncandidate_refinements = 1\n", "4", quiet);
+  ASSERT_NE(on.diagnosis.outcome, "incomplete") << on.log;
+  const nlohmann::json& r = on.json.at("candidate_refinement");
+  EXPECT_EQ(r.at("rounds_allowed").get<int>(), 1);
+  ASSERT_FALSE(r.at("rounds").empty()) << on.log;
+  for (const auto& round : r.at("rounds")) {
+    const std::string name = round.at("candidate").get<std::string>();
+    EXPECT_NE(on.log.find("extending the design into"), std::string::npos);
+    EXPECT_NE(on.log.find("refining the design of " + name), std::string::npos) << on.log;
+    EXPECT_EQ(round.at("study").get<std::string>(), name + "-refined");
+    ASSERT_FALSE(round.at("reasons").empty());
+    EXPECT_NE(round.at("reasons")[0].get<std::string>().find("less sure at the fit"),
+              std::string::npos);
+    const auto& centre = round.at("centre");
+    const auto& box = round.at("design_box");
+    ASSERT_EQ(centre.size(), box.size());
+    ASSERT_EQ(box.size(), 3u);  // mu_r, mu_s and the candidate's parameter
+    for (std::size_t k = 0; k < box.size(); ++k) {
+      const double c = centre[k].get<double>();
+      EXPECT_LE(box[k].at("lower").get<double>(), c + 1e-12) << box.dump();
+      EXPECT_GE(box[k].at("upper").get<double>(), c - 1e-12) << box.dump();
+    }
+    // The candidate's fit the refinement was asked at is the one the diagnosis reports
+    // before refitting: inside the candidate's range.
+    bool found = false;
+    for (const auto& f : on.json.at("fits"))
+      if (f.at("name") == name) found = true;
+    EXPECT_TRUE(found) << name;
+  }
 }
 
 // The evaluator's observables are its documented formulas, and its noise is the
