@@ -20,12 +20,15 @@
 // base fit, and log tau on a grid:
 //
 //   Z = mean over the (tau_b, tau_g) grid of  pi(theta) (2 pi)^(p/2) |A|^(-1/2)
-//       N(e; 0, D S D) exp(+1/2 e^T S^-1 F A^-1 F^T S^-1 e),
+//       N(e; 0, D S D) exp(+1/2 e^T S^-1 F A^-1 F^T S^-1 e) P_box,
 //   S = I + tau_b^2 B + tau_g^2 G, A = F^T S^-1 F, e = (y - f(theta_hat)) / sigma,
-//   F = the standardized Jacobian d f / d theta / sigma, D = diag(sigma).
+//   F = the standardized Jacobian d f / d theta / sigma, D = diag(sigma),
+//   P_box = the mass of N(theta_hat + A^-1 F^T S^-1 e, A^-1) inside the design box.
 //
-// At tau = 0 this is model_evidence's Laplace evidence of the base model (the same
-// linearization), so the two are on one scale and bayes_factor() applies.
+// At tau = 0 and an interior fit this is model_evidence's Laplace evidence of the base model
+// (the same linearization), so the two are on one scale and bayes_factor() applies. P_box
+// keeps a fit on a bound from being credited with the fit beyond it that the linear step
+// reaches (until 2026-12-07 the integral ran over all of R^p; tests/concealed/stage6/).
 
 #include "calibrate/calibration_problem.hpp"
 #include "calibrate/discrepancy_diagnosis.hpp"

@@ -1,5 +1,6 @@
 #include "study/diagnosis_workflow.hpp"
 
+#include "calibrate/candidate_discrepancy.hpp"
 #include "calibrate/discrepancy_diagnosis.hpp"
 #include "calibrate/probe_sensitivity.hpp"
 #include "calibrate/report/figures.hpp"
@@ -1319,6 +1320,15 @@ DiagnosisOutcome diagnose_study(const DiagnosisWorkflowOptions& o, DiagnosisStep
   j["detection"]["scatter_degrees_of_freedom"] = test.scatter_degrees_of_freedom;
   j["detection"]["method"] = "correlated, local scatter, predictive p";
   j["discrepancy_judgement"] = judgement.to_json();
+  if (judgement.available) {
+    // For information (the verdict above does not use it): each candidate with the
+    // discrepancy on top, against the base model with it (calibrate/candidate_discrepancy.hpp).
+    nlohmann::json with = nlohmann::json::array();
+    for (const auto& c : calibrate::candidates_with_discrepancy(
+             bounds, targets, opt.held_out, modules, result, judgement.discrepancy, variables))
+      with.push_back(c.to_json());
+    j["discrepancy_judgement"]["candidates_with_discrepancy"] = with;
+  }
   {
     nlohmann::json box = nlohmann::json::array();
     for (const auto& b : plausible)

@@ -132,6 +132,30 @@ TEST(ModelDiscrepancy, NamesACandidateThatReproducesTheSignature) {
   }
 }
 
+// A candidate that beats the discrepancy by the margin but not the base model is not named,
+// and the statement says which of the two stood in the way (it said "not better than a
+// generic discrepancy, Bayes factor 63" on a cross-engine null, stop 51).
+TEST(ModelDiscrepancy, ACandidateThatDoesNotBeatTheBaseModelIsNotNamedAndItIsSaid) {
+  const Judged j = judge(kCohesion, kCohesionTruth, 100);
+  ASSERT_EQ(j.decision.verdict, Explanation::physics) << j.decision.statement;
+  std::vector<ModelEvidence> evidences;
+  for (const auto& f : j.d.fits) evidences.push_back(f.evidence);
+  const auto best = std::max_element(evidences.begin(), evidences.end(),
+                                     [](const ModelEvidence& a, const ModelEvidence& b) {
+                                       return a.log_evidence < b.log_evidence;
+                                     });
+  ModelEvidence base = j.d.base_evidence;
+  base.log_evidence = best->log_evidence - 1.0;  // the candidate over the base: e^1, short of e^3
+  const ExplanationDecision d = decide_explanation(j.d.detection, base, evidences, j.disc);
+  EXPECT_EQ(d.verdict, Explanation::discrepancy);
+  EXPECT_NE(d.statement.find("is better than a generic discrepancy"), std::string::npos)
+      << d.statement;
+  EXPECT_NE(d.statement.find("but not better than the base model itself"), std::string::npos)
+      << d.statement;
+  EXPECT_EQ(d.statement.find("is not better than a generic discrepancy"), std::string::npos)
+      << d.statement;
+}
+
 TEST(ModelDiscrepancy, ACandidateIsNamedOnlyWhenItBeatsTheRunnerUpByTheMargin) {
   // A mimic: a second candidate with the named one's fit and its log evidence `gap` below.
   // Within the margin the recordings cannot tell the two apart, so neither is named (the
