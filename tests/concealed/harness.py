@@ -84,7 +84,9 @@ def set_truth_set(name):
     "Stage 4").
     `stage3`: same-engine truths written after stage 3's method was frozen, with frictions
     and strengths of their own (truth-stage3/, their studies under stage3/studies/;
-    README.md "Stage 3 on the same engine")."""
+    README.md "Stage 3 on the same engine").
+    `stage6`: same-engine truths written after stage 6's method was frozen (truth-stage6/,
+    their studies under stage6/studies/; stage6/README.md)."""
     global TRUTH, STUDIES
     if name == "fresh":
         TRUTH = HERE / "truth-fresh"
@@ -104,6 +106,9 @@ def set_truth_set(name):
     elif name == "stage3":
         TRUTH = HERE / "truth-stage3"
         STUDIES = HERE / "stage3" / "studies"
+    elif name == "stage6":
+        TRUTH = HERE / "truth-stage6"
+        STUDIES = HERE / "stage6" / "studies"
 
 
 def series_observables(rec):
@@ -460,12 +465,12 @@ def main():
     p.add_argument("--results", type=pathlib.Path, default=HERE / "results.csv")
     p.add_argument("--no-readmes", action="store_true", help="do not rewrite the study READMEs")
     p.add_argument("--min-identified", type=float, default=0.8)
-    p.add_argument("--truth-set", choices=["original", "fresh", "stage3", "lammps", "lammps-fresh", "lammps-stage3", "lammps-stage4"], default="original",
+    p.add_argument("--truth-set", choices=["original", "fresh", "stage3", "stage6", "lammps", "lammps-fresh", "lammps-stage3", "lammps-stage4"], default="original",
                    help="original: truth/ (the development set); fresh: truth-fresh/ (made after the method was "
                         "frozen); lammps: lammps/truth/ (recordings made in LAMMPS, the model demcal's); lammps-fresh: "
                         "lammps/truth-fresh/ (LAMMPS truths made after the cross-engine method was frozen); "
                         "lammps-stage3: lammps/truth-stage3/ (written after stage 3 was frozen); lammps-stage4: lammps/truth-stage4/ "
-                        "(written after stage 4 was frozen); stage3: truth-stage3/ "
+                        "(written after stage 4 was frozen); stage6: truth-stage6/ (written after stage 6 was frozen); stage3: truth-stage3/ "
                         "(same-engine truths written after stage 3 was frozen)")
     args = p.parse_args()
     args.seeds = [int(s) for s in args.seeds.split(",")]
