@@ -454,10 +454,8 @@ ExplanationDecision decide_explanation(const MismatchDetection& detection,
   if (d.indistinguishable.empty() && best && !(d.log_bayes_factor_over_discrepancy < margin))
     // It beats the discrepancy but not the base model: the base model, at a fit the test
     // doubts, is as likely as anything else offered.
-    s += "The best candidate, " + best->model +
-         ", is better than a generic discrepancy (Bayes "
-         "factor " +
-         factor(d.log_bayes_factor_over_discrepancy) +
+    s += "The best candidate, " + best->model + ", is better than a generic discrepancy (" +
+         "Bayes factor " + factor(d.log_bayes_factor_over_discrepancy) +
          ") but not better than the base model itself by the required margin (Bayes factor " +
          factor(d.log_bayes_factor_over_base) + ", required " + fmt(std::exp(margin), 2) +
          "), so no physics is named. ";
